@@ -1,0 +1,122 @@
+// A mass-spring soft body on a tetrahedral mesh: owns the state and the step plan and advances
+// in time. This is the whole contract the VTK filter (and the future GPU stepper) relies on.
+#pragma once
+
+#include "softbody/constraints.h"
+#include "softbody/integrators.h"
+#include "softbody/mass.h"
+#include "softbody/mass_spring_forces.h"
+#include "softbody/tet_mesh.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace softbody
+{
+
+struct SceneSettings
+{
+  Integrator integrator = Integrator::EulerCromer;
+  /// [s]; 0 = automatic: the largest stable step estimate times stabilitySafety.
+  double timeStep = 0.0;
+  double stabilitySafety = 0.9; ///< fraction of the estimated stable step used in auto mode
+  Vec3 gravity{ 0.0, 0.0, -9.81 }; ///< [m/s^2]
+  bool floorEnabled = false;
+  FloorPlane floor;
+  /// Strain limit: maximum l / l0 of a spring (> 1); 0 disables strain limiting.
+  double strainLimit = 0.0;
+  int strainLimitIterations = 4;
+  InvertedTetPolicy invertedTets = InvertedTetPolicy::Reorient;
+  /// A state is declared exploded when a spring grows past this factor of its rest length.
+  double divergenceStretch = 100.0;
+};
+
+struct BodyDescription
+{
+  TetMesh mesh;
+  std::vector<char> pinned; ///< empty, or one flag per mesh point (nonzero: pinned)
+  MaterialSettings material;
+};
+
+/// Called during advance() with the fraction done; return false to abort.
+using ProgressCallback = std::function<bool(double fraction)>;
+
+enum class AdvanceStatus
+{
+  Completed,
+  Aborted
+};
+
+struct StageTiming
+{
+  std::string stage;
+  double seconds = 0.0; ///< accumulated wall time since construction
+};
+
+class MassSpringSimulation
+{
+public:
+  /// Validates and prepares the body; throws InvalidInputError with a user-facing message.
+  MassSpringSimulation(BodyDescription body, const SceneSettings& scene);
+
+  /// Advances to `endTime` (>= time()) in equal steps no larger than stepSize(): the interval
+  /// is split into ceil(interval / stepSize()) steps, so a run that stops at frame times
+  /// produces exactly the same states as one that does not stop. Throws
+  /// SimulationDivergedError if the state turns non-finite or explodes.
+  AdvanceStatus advance(double endTime, const ProgressCallback& progress = {});
+
+  const DynamicState& state() const { return State; }
+  /// Resumes from a snapshot taken from this simulation (same body and settings).
+  void restoreState(const DynamicState& snapshot);
+
+  double time() const { return State.time; }
+  unsigned long long stepCount() const { return State.stepCount; }
+  const std::vector<Vec3>& positions() const { return State.positions; }
+  const std::vector<Vec3>& velocities() const { return State.velocities; }
+  const std::vector<Vec3>& restPositions() const { return Mesh.points; }
+  const std::vector<double>& inverseMasses() const { return Masses.inverseMass; }
+  const std::vector<double>& masses() const { return Masses.mass; }
+  double totalMass() const { return Masses.totalMass; }
+  const Topology& topology() const { return Topo; }
+  const ElementConstants& elementConstants() const { return Constants; }
+
+  /// Current over rest volume of each tet (in core's orientation: inverted input tets that
+  /// were re-oriented report positive ratios).
+  std::vector<double> tetVolumeRatios() const;
+
+  double stepSize() const { return Step; }               ///< [s]
+  double estimatedStableStep() const { return StableStep; } ///< [s]; 0 if none is stable
+  double highestFrequency() const { return OmegaMax; }   ///< bound [rad/s]
+
+  /// Everything worth telling the user: re-oriented tets, clamped parameters, a step above
+  /// the stability estimate, truncated inverse masses.
+  const std::vector<std::string>& warnings() const { return Warnings; }
+
+  /// The stages this scene runs per step, in order (only those it needs).
+  std::vector<std::string> plan() const;
+  std::vector<StageTiming> stageTimings() const;
+
+private:
+  class Forces;
+  void stepOnce(double h);
+  void checkDivergence() const;
+
+  SceneSettings Scene;
+  TetMesh Mesh;
+  Topology Topo;
+  ElementConstants Constants;
+  PointMasses Masses;
+  DynamicState State;
+  IntegratorScratch IntegratorWork;
+  StrainLimitScratch StrainWork;
+  double Step = 0.0;
+  double StableStep = 0.0;
+  double OmegaMax = 0.0;
+  std::vector<std::string> Warnings;
+  mutable std::vector<double> StageSeconds; // forces, integrate, strain limit, floor, checks
+  mutable ForceScratch ForceWork;
+  mutable std::vector<Vec3> ForceBuffer;
+};
+
+} // namespace softbody

@@ -1,0 +1,29 @@
+// Small helpers shared by the unit tests.
+#pragma once
+
+#include "softbody/geometry.h"
+
+#include <random>
+#include <vector>
+
+namespace softbody::test
+{
+
+/// Positions displaced by uniform noise of the given amplitude (deterministic seed).
+inline std::vector<Vec3> jitter(std::vector<Vec3> points, double amplitude, unsigned seed = 7)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-amplitude, amplitude);
+  for (Vec3& p : points)
+  {
+    p += Vec3(u(rng), u(rng), u(rng));
+  }
+  return points;
+}
+
+inline std::vector<Vec3> randomVectors(std::size_t count, double amplitude, unsigned seed = 11)
+{
+  return jitter(std::vector<Vec3>(count, Vec3::Zero()), amplitude, seed);
+}
+
+} // namespace softbody::test
