@@ -3,6 +3,9 @@
 #include "softbody/errors.h"
 #include "softbody/stability.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -97,10 +100,13 @@ public:
       Owner.Topo, Owner.Constants, positions, velocities, Owner.ForceWork, accelerations);
     const std::vector<double>& w = Owner.Masses.inverseMass;
     const Vec3 gravity = Owner.Scene.gravity;
-    for (std::size_t i = 0; i < accelerations.size(); ++i)
-    {
-      accelerations[i] = w[i] == 0.0 ? Vec3::Zero() : Vec3(gravity + w[i] * accelerations[i]);
-    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, accelerations.size(), 4096),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+        {
+          accelerations[i] = w[i] == 0.0 ? Vec3::Zero() : Vec3(gravity + w[i] * accelerations[i]);
+        }
+      });
   }
 
 private:

@@ -1,0 +1,199 @@
+// Mass-spring step cost on meshes from ~1k to ~150k tets, at 1 thread and at all threads.
+//
+// For each mesh and thread count it prints ms per step, tets per second, the speed-up over one
+// thread, and the ratio of the measured step time to a memory-bandwidth bound: the bytes a step
+// must move at least (modelled below from the data layout) divided by the triad bandwidth the
+// same process measures with the same thread count. A ratio near 1 means the step runs at the
+// speed of memory; far above 1 means compute or latency bound. A hash of the final state shows
+// that every thread count computed the same thing. Results also go to CSV.
+//
+// Usage: bench_mass_spring [--smoke] [--data <shared data dir>] [--csv <file>]
+#include "bench_meshes.h"
+#include "memory_bandwidth.h"
+
+#include "softbody/errors.h"
+#include "softbody/mass_spring_simulation.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+using namespace softbody;
+
+namespace
+{
+
+struct Options
+{
+  bool smoke = false;
+  std::string dataDir = "../shared/data";
+  std::string csvPath = "bench_mass_spring.csv";
+};
+
+Options parse(int argc, char** argv)
+{
+  Options options;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string arg = argv[i];
+    if (arg == "--smoke")
+    {
+      options.smoke = true;
+    }
+    else if (arg == "--data" && i + 1 < argc)
+    {
+      options.dataDir = argv[++i];
+    }
+    else if (arg == "--csv" && i + 1 < argc)
+    {
+      options.csvPath = argv[++i];
+    }
+    else
+    {
+      std::cerr << "usage: bench_mass_spring [--smoke] [--data DIR] [--csv FILE]\n";
+      std::exit(2);
+    }
+  }
+  return options;
+}
+
+/// Least bytes one Euler-Cromer step moves through memory with core's layout (doubles,
+/// int32 indices), counting each array once per pass that streams it:
+///   spring pass   per edge: 2 indices, l0, k, k_d, the force written            56 B
+///   volume pass   per tet: 4 indices, V0, k', k_d', the scale written           48 B
+///   gather        per edge end: item + edge + force (36 B); per tet corner:
+///                 item + scale + tet (28 B); per vertex: offsets, force out (32 B)
+///   accel + integrate + floor, per vertex: x, v read and written, a, w         176 B
+///   positions and velocities read by each element pass, per vertex              96 B
+double modelledBytesPerStep(std::size_t vertices, std::size_t edges, std::size_t tets)
+{
+  return 56.0 * double(edges) + 48.0 * double(tets) + 36.0 * 2.0 * double(edges) +
+    28.0 * 4.0 * double(tets) + (32.0 + 176.0 + 96.0) * double(vertices);
+}
+
+std::uint64_t hashPositions(const std::vector<Vec3>& x)
+{
+  std::uint64_t hash = 1469598103934665603ull;
+  const auto* bytes = reinterpret_cast<const unsigned char*>(x.data());
+  for (std::size_t i = 0; i < x.size() * sizeof(Vec3); ++i)
+  {
+    hash = (hash ^ bytes[i]) * 1099511628211ull;
+  }
+  return hash;
+}
+
+struct Measurement
+{
+  double secondsPerStep = 0.0;
+  std::uint64_t hash = 0;
+};
+
+Measurement measure(const TetMesh& mesh, bool smoke)
+{
+  BodyDescription body;
+  body.mesh = mesh;
+  double lowest = 1e300;
+  for (const Vec3& p : mesh.points)
+  {
+    lowest = std::min(lowest, p.z());
+  }
+  SceneSettings scene;
+  scene.floorEnabled = true;
+  scene.floor.origin = Vec3(0, 0, lowest - 1e-3);
+  MassSpringSimulation sim(body, scene);
+  const double h = sim.stepSize();
+  sim.advance(10 * h); // warm-up: caches, TBB threads, page faults
+
+  // Enough steps for ~0.3 s of work (5 in smoke mode), estimated from a short probe.
+  const auto probeStart = std::chrono::steady_clock::now();
+  sim.advance(sim.time() + 5 * h);
+  const double probe = std::chrono::duration<double>(std::chrono::steady_clock::now() - probeStart).count() / 5;
+  const int steps = smoke ? 5 : std::max(20, static_cast<int>(0.3 / probe));
+  const auto start = std::chrono::steady_clock::now();
+  sim.advance(sim.time() + steps * h);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return { seconds / steps, hashPositions(sim.positions()) };
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  const Options options = parse(argc, argv);
+  const int maxThreads = tbb::info::default_concurrency();
+  std::vector<int> threadCounts{ 1 };
+  if (maxThreads > 1)
+  {
+    threadCounts.push_back(maxThreads);
+  }
+
+  std::vector<double> bandwidth;
+  const std::size_t probeElements = options.smoke ? (1u << 20) : (1u << 24); // 3 x 128 MiB
+  for (int threads : threadCounts)
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    bandwidth.push_back(bench::measureTriadBandwidth(probeElements, options.smoke ? 2 : 5));
+    std::printf("triad bandwidth, %d thread(s): %.2f GB/s\n", threads, bandwidth.back() / 1e9);
+  }
+
+  std::vector<bench::NamedMesh> meshes = bench::generatedMeshes(options.smoke);
+  for (auto& m : bench::sharedMeshes(options.dataDir))
+  {
+    meshes.push_back(std::move(m));
+  }
+
+  std::ofstream csv(options.csvPath);
+  csv << "mesh,vertices,edges,tets,threads,ms_per_step,tets_per_second,speedup,"
+         "modelled_MB_per_step,bandwidth_GBps,time_over_bandwidth_bound,state_hash\n";
+  std::printf("\n%-22s %8s %8s %3s %10s %12s %8s %10s %16s\n", "mesh", "tets", "verts", "thr",
+    "ms/step", "tets/s", "speedup", "x bw bound", "hash");
+  for (const auto& named : meshes)
+  {
+    double oneThread = 0.0;
+    std::uint64_t firstHash = 0;
+    for (std::size_t k = 0; k < threadCounts.size(); ++k)
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threadCounts[k]);
+      Measurement m;
+      try
+      {
+        m = measure(named.mesh, options.smoke);
+      }
+      catch (const std::exception& error)
+      {
+        std::printf("%-22s skipped: %s\n", named.name.c_str(), error.what());
+        break;
+      }
+      const Topology topology = buildTopology(named.mesh.points.size(), named.mesh.tets);
+      const double bytes = modelledBytesPerStep(named.mesh.points.size(), topology.edges.size(), named.mesh.tets.size());
+      const double bound = bytes / bandwidth[k];
+      if (k == 0)
+      {
+        oneThread = m.secondsPerStep;
+        firstHash = m.hash;
+      }
+      const double tetsPerSecond = double(named.mesh.tets.size()) / m.secondsPerStep;
+      std::printf("%-22s %8zu %8zu %3d %10.3f %12.3g %8.2f %10.2f %016llx%s\n", named.name.c_str(),
+        named.mesh.tets.size(), named.mesh.points.size(), threadCounts[k], 1e3 * m.secondsPerStep,
+        tetsPerSecond, oneThread / m.secondsPerStep, m.secondsPerStep / bound,
+        static_cast<unsigned long long>(m.hash), m.hash == firstHash ? "" : "  HASH DIFFERS");
+      csv << named.name << ',' << named.mesh.points.size() << ',' << topology.edges.size() << ','
+          << named.mesh.tets.size() << ',' << threadCounts[k] << ',' << 1e3 * m.secondsPerStep << ','
+          << tetsPerSecond << ',' << oneThread / m.secondsPerStep << ',' << bytes / 1e6 << ','
+          << bandwidth[k] / 1e9 << ',' << m.secondsPerStep / bound << ',' << m.hash << '\n';
+      if (m.hash != firstHash)
+      {
+        std::fprintf(stderr, "error: the state differs between thread counts\n");
+        return 1;
+      }
+    }
+  }
+  std::printf("\nCSV written to %s\n", options.csvPath.c_str());
+  return 0;
+}

@@ -1,0 +1,24 @@
+// The benchmark's meshes: generated boxes from ~1k to ~150k tets, and the public meshes of
+// ../shared/data when present (read with VTK's readers and TetGen's own loader).
+#pragma once
+
+#include "softbody/tet_mesh.h"
+
+#include <string>
+#include <vector>
+
+namespace softbody::bench
+{
+
+struct NamedMesh
+{
+  std::string name;
+  TetMesh mesh;
+};
+
+std::vector<NamedMesh> generatedMeshes(bool smoke);
+
+/// Meshes found under dataDir; prints a note for each one that is missing or unreadable.
+std::vector<NamedMesh> sharedMeshes(const std::string& dataDir);
+
+} // namespace softbody::bench
