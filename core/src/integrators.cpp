@@ -1,7 +1,6 @@
 #include "softbody/integrators.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "softbody/parallel.h"
 
 namespace softbody
 {
@@ -14,13 +13,7 @@ constexpr std::size_t kGrain = 4096;
 template <typename Body>
 void forEachPoint(std::size_t count, const Body& body)
 {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain),
-    [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i != r.end(); ++i)
-      {
-        body(i);
-      }
-    });
+  parallelFor(count, kGrain, body);
 }
 
 void explicitEuler(double h, const AccelerationEvaluator& evaluator, DynamicState& s,

@@ -1,8 +1,6 @@
 #include "softbody/mass_spring_forces.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
+#include "softbody/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,25 +15,13 @@ namespace
 constexpr std::size_t kElementGrain = 2048;
 constexpr std::size_t kVertexGrain = 1024;
 
-template <typename Body>
-void parallelRange(std::size_t count, std::size_t grain, const Body& body)
-{
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, grain),
-    [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i != r.end(); ++i)
-      {
-        body(i);
-      }
-    });
-}
-
 /// Pass 1, springs: force on end a of edge e,
 ///   f_a = -(k (l - l0) + k_d n.(v_a - v_b)) n,  n = (p_a - p_b) / l   (f_b = -f_a).
 /// A zero-length spring has no direction; it exerts no force (guarded, never NaN).
 void springForces(const Topology& topology, const ElementConstants& c,
   const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& out)
 {
-  parallelRange(topology.edges.size(), kElementGrain, [&](std::size_t e) {
+  parallelFor(topology.edges.size(), kElementGrain, [&](std::size_t e) {
     const Edge& edge = topology.edges[e];
     const Vec3 d = x[edge.a] - x[edge.b];
     const double length = d.norm();
@@ -55,7 +41,7 @@ void springForces(const Topology& topology, const ElementConstants& c,
 void volumeForceScales(const Topology& topology, const ElementConstants& c,
   const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<double>& out)
 {
-  parallelRange(topology.tets.size(), kElementGrain, [&](std::size_t t) {
+  parallelFor(topology.tets.size(), kElementGrain, [&](std::size_t t) {
     const Tet& tet = topology.tets[t];
     const auto g = tetVolumeGradients(x[tet[0]], x[tet[1]], x[tet[2]], x[tet[3]]);
     const double volume = signedTetVolume(x[tet[0]], x[tet[1]], x[tet[2]], x[tet[3]]);
@@ -96,7 +82,7 @@ void computeInternalForces(const Topology& topology, const ElementConstants& con
 
   // Pass 2: gather in CSR order (fixed), one writer per vertex.
   forces.resize(topology.vertexCount);
-  parallelRange(topology.vertexCount, kVertexGrain, [&](std::size_t i) {
+  parallelFor(topology.vertexCount, kVertexGrain, [&](std::size_t i) {
     Vec3 sum = Vec3::Zero();
     const Csr& edges = topology.vertexEdges;
     for (std::int32_t k = edges.offsets[i]; k < edges.offsets[i + 1]; ++k)
@@ -144,21 +130,14 @@ double maxStretchRatio(const Topology& topology, const ElementConstants& constan
 {
   // max is order-independent, so the parallel reduction is deterministic. A NaN poisons the
   // result on purpose (std::max would silently drop it).
-  return tbb::parallel_reduce(
-    tbb::blocked_range<std::size_t>(0, topology.edges.size(), kElementGrain), 0.0,
-    [&](const tbb::blocked_range<std::size_t>& r, double running) {
-      for (std::size_t e = r.begin(); e != r.end(); ++e)
-      {
-        const Edge& edge = topology.edges[e];
-        const double ratio = (positions[edge.a] - positions[edge.b]).norm() / constants.restLength[e];
-        running = (std::isnan(running) || std::isnan(ratio)) ? std::numeric_limits<double>::quiet_NaN()
-                                                             : std::max(running, ratio);
-      }
-      return running;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  return parallelReduce(
+    topology.edges.size(), kElementGrain, 0.0,
+    [&](std::size_t e) {
+      const Edge& edge = topology.edges[e];
+      return (positions[edge.a] - positions[edge.b]).norm() / constants.restLength[e];
     },
-    [](double l, double r) {
-      return (std::isnan(l) || std::isnan(r)) ? std::numeric_limits<double>::quiet_NaN() : std::max(l, r);
-    });
+    [nan](double l, double r) { return (std::isnan(l) || std::isnan(r)) ? nan : std::max(l, r); });
 }
 
 } // namespace softbody

@@ -3,8 +3,7 @@
 #include "softbody/errors.h"
 #include "softbody/stability.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "softbody/parallel.h"
 
 #include <chrono>
 #include <cmath>
@@ -100,13 +99,9 @@ public:
       Owner.Topo, Owner.Constants, positions, velocities, Owner.ForceWork, accelerations);
     const std::vector<double>& w = Owner.Masses.inverseMass;
     const Vec3 gravity = Owner.Scene.gravity;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, accelerations.size(), 4096),
-      [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i)
-        {
-          accelerations[i] = w[i] == 0.0 ? Vec3::Zero() : Vec3(gravity + w[i] * accelerations[i]);
-        }
-      });
+    parallelFor(accelerations.size(), 4096, [&](std::size_t i) {
+      accelerations[i] = w[i] == 0.0 ? Vec3::Zero() : Vec3(gravity + w[i] * accelerations[i]);
+    });
   }
 
 private:
@@ -143,6 +138,21 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
   }
 
   Scene.floor.normal.normalize();
+  if (Scene.floorEnabled)
+  {
+    std::size_t below = 0;
+    for (const Vec3& p : Mesh.points)
+    {
+      below += (p - Scene.floor.origin).dot(Scene.floor.normal) < 0.0 ? 1 : 0;
+    }
+    if (below > 0)
+    {
+      // Projecting them all at once crushes the tets they belong to: usually not intended.
+      Warnings.push_back(std::to_string(below) +
+        " points start below the floor and will be pushed onto it in the first step; move "
+        "FloorOrigin below the body to drop it instead.");
+    }
+  }
   State.positions = Mesh.points;
   State.velocities.assign(Mesh.points.size(), Vec3::Zero());
 
@@ -193,33 +203,35 @@ void MassSpringSimulation::restoreState(const DynamicState& snapshot)
   State = snapshot;
 }
 
-std::vector<std::string> MassSpringSimulation::plan() const
+std::vector<StageTiming> MassSpringSimulation::stageTimings() const
 {
-  std::vector<std::string> stages;
-  stages.push_back(Constants.hasVolumeTerm ? "forces: springs + volumes" : "forces: springs");
-  stages.push_back(std::string("integrate: ") + integratorName(Scene.integrator));
+  // Only the stages this scene runs, named for what they do here. "integrate" was timed around
+  // the force evaluations too; it is reported net of them.
+  std::vector<StageTiming> timings;
+  timings.push_back({ Constants.hasVolumeTerm ? "forces: springs + volumes" : "forces: springs",
+    StageSeconds[kForces] });
+  timings.push_back({ std::string("integrate: ") + integratorName(Scene.integrator),
+    StageSeconds[kIntegrate] - StageSeconds[kForces] });
   if (Scene.strainLimit > 0.0)
   {
-    stages.push_back(kStageNames[kStrainLimit]);
+    timings.push_back({ kStageNames[kStrainLimit], StageSeconds[kStrainLimit] });
   }
   if (Scene.floorEnabled)
   {
-    stages.push_back(kStageNames[kFloor]);
+    timings.push_back({ kStageNames[kFloor], StageSeconds[kFloor] });
   }
-  stages.push_back(kStageNames[kDivergenceCheck]);
-  return stages;
+  timings.push_back({ kStageNames[kDivergenceCheck], StageSeconds[kDivergenceCheck] });
+  return timings;
 }
 
-std::vector<StageTiming> MassSpringSimulation::stageTimings() const
+std::vector<std::string> MassSpringSimulation::plan() const
 {
-  std::vector<StageTiming> timings;
-  for (int s = 0; s < kStageCount; ++s)
+  std::vector<std::string> stages;
+  for (const StageTiming& timing : stageTimings())
   {
-    timings.push_back({ kStageNames[s], StageSeconds[s] });
+    stages.push_back(timing.stage);
   }
-  // "integrate" was timed around the force evaluations too; report it net of them.
-  timings[kIntegrate].seconds -= timings[kForces].seconds;
-  return timings;
+  return stages;
 }
 
 std::vector<double> MassSpringSimulation::tetVolumeRatios() const

@@ -1,8 +1,6 @@
 #include "softbody/constraints.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
+#include "softbody/parallel.h"
 
 namespace softbody
 {
@@ -16,27 +14,62 @@ std::size_t springCorrections(const Topology& topology, const ElementConstants& 
   const std::vector<double>& w, double maxStretch, const std::vector<Vec3>& x,
   std::vector<Vec3>& correction)
 {
-  return tbb::parallel_reduce(
-    tbb::blocked_range<std::size_t>(0, topology.edges.size(), 2048), std::size_t{ 0 },
-    [&](const tbb::blocked_range<std::size_t>& r, std::size_t violated) {
-      for (std::size_t e = r.begin(); e != r.end(); ++e)
+  return parallelReduce(
+    topology.edges.size(), 2048, std::size_t{ 0 },
+    [&](std::size_t e) -> std::size_t {
+      const Edge& edge = topology.edges[e];
+      const Vec3 d = x[edge.a] - x[edge.b];
+      const double length = d.norm();
+      const double limit = maxStretch * constants.restLength[e];
+      const double wSum = w[edge.a] + w[edge.b];
+      if (length <= limit || wSum == 0.0)
       {
-        const Edge& edge = topology.edges[e];
-        const Vec3 d = x[edge.a] - x[edge.b];
-        const double length = d.norm();
-        const double limit = maxStretch * constants.restLength[e];
-        const double wSum = w[edge.a] + w[edge.b];
-        if (length <= limit || wSum == 0.0)
-        {
-          correction[e].setZero();
-          continue;
-        }
-        correction[e] = ((length - limit) / (length * wSum)) * d;
-        ++violated;
+        correction[e].setZero();
+        return 0;
       }
-      return violated;
+      correction[e] = ((length - limit) / (length * wSum)) * d;
+      return 1;
     },
     [](std::size_t l, std::size_t r) { return l + r; });
+}
+
+/// Pass 2: each vertex applies the mean of its springs' requests (averaged Jacobi: the plain
+/// sum overshoots where several violated springs meet). One writer per vertex.
+void applyMeanCorrections(const Topology& topology, const std::vector<double>& inverseMass,
+  const std::vector<Vec3>& edgeCorrection, bool adjustVelocities, double h,
+  std::vector<Vec3>& positions, std::vector<Vec3>& velocities)
+{
+  parallelFor(topology.vertexCount, 1024, [&](std::size_t i) {
+    const double wi = inverseMass[i];
+    if (wi == 0.0)
+    {
+      return;
+    }
+    Vec3 sum = Vec3::Zero();
+    int active = 0;
+    const Csr& edges = topology.vertexEdges;
+    for (std::int32_t k = edges.offsets[i]; k < edges.offsets[i + 1]; ++k)
+    {
+      const std::int32_t e = edges.items[k];
+      const Vec3& c = edgeCorrection[e];
+      if (c.isZero(0.0))
+      {
+        continue;
+      }
+      sum += (topology.edges[e].a == static_cast<std::int32_t>(i)) ? Vec3(-wi * c) : Vec3(wi * c);
+      ++active;
+    }
+    if (active == 0)
+    {
+      return;
+    }
+    const Vec3 delta = sum / active;
+    positions[i] += delta;
+    if (adjustVelocities)
+    {
+      velocities[i] += delta / h;
+    }
+  });
 }
 
 } // namespace
@@ -60,43 +93,8 @@ std::size_t limitStrain(const Topology& topology, const ElementConstants& consta
     {
       break;
     }
-    // Pass 2: each vertex applies the mean of its springs' requests (averaged Jacobi: the
-    // plain sum overshoots where several violated springs meet).
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, topology.vertexCount, 1024),
-      [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i)
-        {
-          const double wi = inverseMass[i];
-          if (wi == 0.0)
-          {
-            continue;
-          }
-          Vec3 sum = Vec3::Zero();
-          int active = 0;
-          const Csr& edges = topology.vertexEdges;
-          for (std::int32_t k = edges.offsets[i]; k < edges.offsets[i + 1]; ++k)
-          {
-            const std::int32_t e = edges.items[k];
-            const Vec3& c = scratch.edgeCorrection[e];
-            if (c.isZero(0.0))
-            {
-              continue;
-            }
-            sum += (topology.edges[e].a == static_cast<std::int32_t>(i)) ? Vec3(-wi * c) : Vec3(wi * c);
-            ++active;
-          }
-          if (active == 0)
-          {
-            continue;
-          }
-          const Vec3 delta = sum / active;
-          positions[i] += delta;
-          if (adjustVelocities)
-          {
-            velocities[i] += delta / h;
-          }
-        }
-      });
+    applyMeanCorrections(topology, inverseMass, scratch.edgeCorrection, adjustVelocities, h,
+      positions, velocities);
   }
   return firstViolated;
 }

@@ -95,6 +95,7 @@ public:
 
   /// The stages this scene runs per step, in order (only those it needs).
   std::vector<std::string> plan() const;
+  /// The same stages, in the same order, with the wall time spent in each so far.
   std::vector<StageTiming> stageTimings() const;
 
 private:

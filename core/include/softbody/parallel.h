@@ -1,0 +1,123 @@
+// The only two parallel patterns core uses, in one place:
+//   parallelFor(count, grain, body)      body(i) for every i; each i is written by one task
+//   parallelReduce(count, grain, init, map, combine)   an order-independent reduction
+// Kernels stay plain loops over indices and never see the threading library.
+//
+// The normal backend is TBB. ThreadSanitizer cannot see the synchronization inside Debian's
+// uninstrumented libtbb (every hand-off between TBB threads looks like a race), so a
+// ThreadSanitizer build (SOFTBODY_PARALLEL_STD_THREADS) runs the same loops on std::thread,
+// which TSan does understand: the kernels are still checked under real concurrency.
+#pragma once
+
+#include <tbb/global_control.h>
+
+#include <cstddef>
+
+#ifdef SOFTBODY_PARALLEL_STD_THREADS
+#include <algorithm>
+#include <thread>
+#include <vector>
+#else
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#endif
+
+namespace softbody
+{
+
+#ifdef SOFTBODY_PARALLEL_STD_THREADS
+
+namespace detail
+{
+/// One chunk per allowed thread (TBB's global_control limit applies here too, so thread-count
+/// tests mean the same thing).
+inline std::size_t chunkCount(std::size_t count)
+{
+  return std::max<std::size_t>(1,
+    std::min(count, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+}
+
+/// Runs chunkBody(chunk, begin, end) over contiguous chunks of [0, count), one thread each.
+template <typename ChunkBody>
+void runChunks(std::size_t count, const ChunkBody& chunkBody)
+{
+  const std::size_t threads = chunkCount(count);
+  std::vector<std::thread> workers;
+  for (std::size_t t = 1; t < threads; ++t)
+  {
+    workers.emplace_back([&, t] { chunkBody(t, count * t / threads, count * (t + 1) / threads); });
+  }
+  chunkBody(0, 0, count / threads);
+  for (std::thread& worker : workers)
+  {
+    worker.join();
+  }
+}
+} // namespace detail
+
+template <typename Body>
+void parallelFor(std::size_t count, std::size_t /*grain*/, const Body& body)
+{
+  detail::runChunks(count, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      body(i);
+    }
+  });
+}
+
+template <typename T, typename Map, typename Combine>
+T parallelReduce(std::size_t count, std::size_t /*grain*/, T identity, const Map& map, const Combine& combine)
+{
+  std::vector<T> partial(detail::chunkCount(count), identity);
+  detail::runChunks(count, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    T value = identity;
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      value = combine(value, map(i));
+    }
+    partial[chunk] = value;
+  });
+  T result = identity;
+  for (const T& value : partial)
+  {
+    result = combine(result, value);
+  }
+  return result;
+}
+
+#else
+
+template <typename Body>
+void parallelFor(std::size_t count, std::size_t grain, const Body& body)
+{
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, grain),
+    [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      {
+        body(i);
+      }
+    });
+}
+
+/// `combine` must be associative and commutative up to the exactness the caller needs (max,
+/// integer sums): TBB may split and join in any order.
+template <typename T, typename Map, typename Combine>
+T parallelReduce(std::size_t count, std::size_t grain, T identity, const Map& map, const Combine& combine)
+{
+  return tbb::parallel_reduce(
+    tbb::blocked_range<std::size_t>(0, count, grain), identity,
+    [&](const tbb::blocked_range<std::size_t>& range, T value) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      {
+        value = combine(value, map(i));
+      }
+      return value;
+    },
+    combine);
+}
+
+#endif
+
+} // namespace softbody

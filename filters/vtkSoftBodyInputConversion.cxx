@@ -1,0 +1,163 @@
+#include "vtkSoftBodyInputConversion.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellType.h"
+#include "vtkCellTypes.h"
+#include "vtkDataArray.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <sstream>
+
+//------------------------------------------------------------------------------
+bool vtkSoftBodyInputConversion::IsNoArray(const std::string& name)
+{
+  return name.empty() || name == "None";
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodyInputConversion::Convert(
+  vtkUnstructuredGrid* input, const std::string& pinnedArrayName, softbody::BodyDescription& body)
+{
+  if (!input || input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0 ||
+    !input->GetCells())
+  {
+    return "empty input: the soft body needs a tetrahedral mesh with points and cells.";
+  }
+  // Core indexes points with 32-bit integers (half the memory of vtkIdType in its hot arrays).
+  if (input->GetNumberOfPoints() > std::numeric_limits<std::int32_t>::max())
+  {
+    return "the input has too many points for the simulation (more than 2^31 - 1).";
+  }
+  std::string error = ConvertTets(input, body.mesh);
+  if (error.empty())
+  {
+    error = ConvertPoints(input, body.mesh);
+  }
+  if (error.empty())
+  {
+    error = ConvertPinned(input, pinnedArrayName, body.pinned);
+  }
+  return error;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodyInputConversion::ConvertTets(
+  vtkUnstructuredGrid* input, softbody::TetMesh& mesh)
+{
+  const vtkIdType numCells = input->GetNumberOfCells();
+
+  // Count the cells that are not tets by type, so the message says what was found.
+  std::map<int, vtkIdType> otherTypes;
+  vtkIdType otherCount = 0;
+  for (vtkIdType c = 0; c < numCells; ++c)
+  {
+    const int type = input->GetCellType(c);
+    if (type != VTK_TETRA)
+    {
+      ++otherTypes[type];
+      ++otherCount;
+    }
+  }
+  if (otherCount > 0)
+  {
+    std::ostringstream msg;
+    msg << otherCount << " of the " << numCells
+        << " input cells are not tetrahedra (";
+    const char* separator = "";
+    for (const auto& typeCount : otherTypes)
+    {
+      const char* name = vtkCellTypes::GetClassNameFromTypeId(typeCount.first);
+      msg << separator << typeCount.second << " " << (name ? name : "unknown cell type");
+      separator = ", ";
+    }
+    msg << "). The soft body simulates tetrahedral meshes only: apply ParaView's "
+           "Tetrahedralize filter (or Delaunay 3D to a point cloud) first.";
+    return msg.str();
+  }
+
+  mesh.tets.resize(static_cast<std::size_t>(numCells));
+  for (vtkIdType c = 0; c < numCells; ++c)
+  {
+    vtkIdType npts = 0;
+    const vtkIdType* pts = nullptr;
+    input->GetCellPoints(c, npts, pts);
+    if (npts != 4)
+    {
+      std::ostringstream msg;
+      msg << "input cell " << c << " is marked as a tetrahedron but has " << npts << " points.";
+      return msg.str();
+    }
+    softbody::Tet& tet = mesh.tets[static_cast<std::size_t>(c)];
+    for (int k = 0; k < 4; ++k)
+    {
+      // Ids out of range are left for prepareTetMesh to report ("bad index"); only clamp what
+      // would not fit in 32 bits to -1 so it is still reported as out of range.
+      const vtkIdType id = pts[k];
+      tet[static_cast<std::size_t>(k)] =
+        (id < 0 || id > std::numeric_limits<std::int32_t>::max()) ? -1
+                                                                   : static_cast<std::int32_t>(id);
+    }
+  }
+  return {};
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodyInputConversion::ConvertPoints(
+  vtkUnstructuredGrid* input, softbody::TetMesh& mesh)
+{
+  vtkPoints* points = input->GetPoints();
+  const vtkIdType numPoints = points->GetNumberOfPoints();
+  mesh.points.resize(static_cast<std::size_t>(numPoints));
+  // GetPoint converts float (or any other type) to double once; non-finite values pass through
+  // and are reported by prepareTetMesh.
+  for (vtkIdType p = 0; p < numPoints; ++p)
+  {
+    double x[3];
+    points->GetPoint(p, x);
+    mesh.points[static_cast<std::size_t>(p)] = softbody::Vec3(x[0], x[1], x[2]);
+  }
+  return {};
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodyInputConversion::ConvertPinned(
+  vtkUnstructuredGrid* input, const std::string& pinnedArrayName, std::vector<char>& pinned)
+{
+  pinned.clear();
+  if (IsNoArray(pinnedArrayName))
+  {
+    return {};
+  }
+  vtkAbstractArray* abstractArray = input->GetPointData()->GetAbstractArray(pinnedArrayName.c_str());
+  if (!abstractArray)
+  {
+    return "the pinned-points array '" + pinnedArrayName +
+      "' is not a point-data array of the input. Choose an existing point array or None.";
+  }
+  vtkDataArray* array = vtkDataArray::SafeDownCast(abstractArray);
+  if (!array)
+  {
+    return "the pinned-points array '" + pinnedArrayName +
+      "' is not numeric. Choose a numeric point array (nonzero = pinned) or None.";
+  }
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  const int numComponents = array->GetNumberOfComponents();
+  pinned.assign(static_cast<std::size_t>(numPoints), 0);
+  for (vtkIdType p = 0; p < numPoints; ++p)
+  {
+    for (int c = 0; c < numComponents; ++c)
+    {
+      if (array->GetComponent(p, c) != 0.0)
+      {
+        pinned[static_cast<std::size_t>(p)] = 1;
+        break;
+      }
+    }
+  }
+  return {};
+}

@@ -1,0 +1,44 @@
+/**
+ * @class   vtkSoftBodyInputConversion
+ * @brief   Checks a VTK tetrahedral grid and converts it, once, into core's TetMesh.
+ *
+ * The checks here are the ones only VTK can make (cell types, the pinned-points array). The
+ * geometric checks (non-finite coordinates, bad or degenerate tets, inverted tets) belong to
+ * softbody::prepareTetMesh, which the simulation runs on what this class produces, so that the
+ * filter and the core library report them with the same words.
+ *
+ * The input is only read: points are copied to double precision (the input may hold floats),
+ * tets are listed in input cell order so per-tet results map back to input cells one to one.
+ */
+#ifndef vtkSoftBodyInputConversion_h
+#define vtkSoftBodyInputConversion_h
+
+#include "softbody/mass_spring_simulation.h" // softbody::BodyDescription
+
+#include <string>
+
+class vtkUnstructuredGrid;
+
+class vtkSoftBodyInputConversion
+{
+public:
+  /**
+   * Fills `body.mesh` (points and tets) and `body.pinned` from `input`. `pinnedArrayName` names
+   * a point-data array whose nonzero values (in any component) mark pinned points; empty or
+   * "None" means no pinned points. Returns an empty string on success, otherwise the message
+   * to show the user (`body` is then unspecified).
+   */
+  static std::string Convert(
+    vtkUnstructuredGrid* input, const std::string& pinnedArrayName, softbody::BodyDescription& body);
+
+  /// True when `name` selects no array (empty or the XML domain's "None" entry).
+  static bool IsNoArray(const std::string& name);
+
+private:
+  static std::string ConvertPoints(vtkUnstructuredGrid* input, softbody::TetMesh& mesh);
+  static std::string ConvertTets(vtkUnstructuredGrid* input, softbody::TetMesh& mesh);
+  static std::string ConvertPinned(
+    vtkUnstructuredGrid* input, const std::string& pinnedArrayName, std::vector<char>& pinned);
+};
+
+#endif
