@@ -127,8 +127,8 @@ TetMesh prepareTetMesh(TetMesh mesh, InvertedTetPolicy policy, std::vector<std::
     message << report.degenerateTets << " tetrahedra are degenerate (volume below "
             << kDegenerateRelativeVolume << " of the mean; the first is cell "
             << report.firstDegenerateTet
-            << "). Their volume forces would be unbounded: remesh or remove them (for example "
-               "with Soft Body Mesh Quality, or Clean to Grid then Tetrahedralize).";
+            << "). Their volume forces would be unbounded: remesh the body or remove them "
+               "(ParaView's Mesh Quality filter with the Volume measure shows them).";
     throw InvalidInputError(message.str());
   }
   if (report.invertedTets > 0)

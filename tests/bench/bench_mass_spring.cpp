@@ -94,7 +94,9 @@ struct Measurement
   std::uint64_t hash = 0;
 };
 
-Measurement measure(const TetMesh& mesh, bool smoke)
+/// Times `steps` steps (0: choose a count worth ~0.3 s from a short probe, returned in
+/// `steps`). Every thread count must run the same number of steps for the hashes to compare.
+Measurement measure(const TetMesh& mesh, bool smoke, int& steps)
 {
   BodyDescription body;
   body.mesh = mesh;
@@ -110,11 +112,13 @@ Measurement measure(const TetMesh& mesh, bool smoke)
   const double h = sim.stepSize();
   sim.advance(10 * h); // warm-up: caches, TBB threads, page faults
 
-  // Enough steps for ~0.3 s of work (5 in smoke mode), estimated from a short probe.
   const auto probeStart = std::chrono::steady_clock::now();
   sim.advance(sim.time() + 5 * h);
   const double probe = std::chrono::duration<double>(std::chrono::steady_clock::now() - probeStart).count() / 5;
-  const int steps = smoke ? 5 : std::max(20, static_cast<int>(0.3 / probe));
+  if (steps == 0)
+  {
+    steps = smoke ? 5 : std::max(20, static_cast<int>(0.3 / probe));
+  }
   const auto start = std::chrono::steady_clock::now();
   sim.advance(sim.time() + steps * h);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -157,13 +161,14 @@ int main(int argc, char** argv)
   {
     double oneThread = 0.0;
     std::uint64_t firstHash = 0;
+    int steps = 0;
     for (std::size_t k = 0; k < threadCounts.size(); ++k)
     {
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threadCounts[k]);
       Measurement m;
       try
       {
-        m = measure(named.mesh, options.smoke);
+        m = measure(named.mesh, options.smoke, steps);
       }
       catch (const std::exception& error)
       {
