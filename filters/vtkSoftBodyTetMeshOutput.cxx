@@ -1,0 +1,53 @@
+#include "vtkSoftBodyTetMeshOutput.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellType.h"
+#include "vtkDoubleArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkNew.h"
+#include "vtkPoints.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+
+void vtkSoftBodyTetMeshOutput::Fill(const softbody::TetMesh& mesh, vtkUnstructuredGrid* output)
+{
+  output->Initialize();
+  static_assert(sizeof(softbody::Vec3) == 3 * sizeof(double), "Vec3 must be 3 packed doubles");
+  vtkNew<vtkDoubleArray> xyz;
+  xyz->SetNumberOfComponents(3);
+  xyz->SetNumberOfTuples(static_cast<vtkIdType>(mesh.points.size()));
+  if (!mesh.points.empty())
+  {
+    const double* first = mesh.points.front().data();
+    std::copy(first, first + 3 * mesh.points.size(), xyz->GetPointer(0));
+  }
+  vtkNew<vtkPoints> points;
+  points->SetData(xyz);
+
+  // Offsets/connectivity arrays built directly: one pass, no per-cell InsertNextCell.
+  const auto nTets = static_cast<vtkIdType>(mesh.tets.size());
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfValues(nTets + 1);
+  connectivity->SetNumberOfValues(4 * nTets);
+  for (vtkIdType t = 0; t <= nTets; ++t)
+  {
+    offsets->SetValue(t, 4 * t);
+  }
+  for (vtkIdType t = 0; t < nTets; ++t)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      connectivity->SetValue(4 * t + c, mesh.tets[static_cast<std::size_t>(t)][c]);
+    }
+  }
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, connectivity);
+  vtkNew<vtkUnsignedCharArray> types;
+  types->SetNumberOfValues(nTets);
+  types->FillValue(VTK_TETRA);
+
+  output->SetPoints(points);
+  output->SetCells(types, cells);
+}

@@ -1,0 +1,336 @@
+// Mesh file readers: TetGen .node/.ele (round trip through files written here) and Gmsh .msh
+// 2.2 / 4.1; truncated and garbled files must give InvalidInputError, never a crash or a hang;
+// the public meshes of ../shared/data load with their published counts when present.
+#include "softbody/errors.h"
+#include "softbody/mesh_generators.h"
+#include "softbody/mesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <unistd.h> // getpid
+
+using namespace softbody;
+namespace fs = std::filesystem;
+
+namespace
+{
+/// A fresh temporary folder per test, removed afterwards.
+class MeshFiles : public ::testing::Test
+{
+protected:
+  void SetUp() override
+  {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir = fs::temp_directory_path() /
+      ("softbody_mesh_io_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  std::string write(const std::string& name, const std::string& text)
+  {
+    const std::string path = (dir / name).string();
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+  }
+
+  fs::path dir;
+};
+
+/// TetGen text for a mesh, numbering from `first`, with an attribute and a marker column.
+std::pair<std::string, std::string> tetgenText(const TetMesh& m, int first)
+{
+  std::ostringstream node, ele;
+  node.precision(17);
+  node << "# written by the test\n" << m.points.size() << " 3 1 1\n";
+  for (std::size_t i = 0; i < m.points.size(); ++i)
+    node << i + first << " " << m.points[i].x() << " " << m.points[i].y() << " "
+         << m.points[i].z() << " 0.5 1\n";
+  ele << m.tets.size() << " 4 0\n";
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+  {
+    ele << t + first;
+    for (int c = 0; c < 4; ++c)
+      ele << " " << m.tets[t][c] + first;
+    ele << "\n";
+  }
+  return { node.str(), ele.str() };
+}
+
+/// Gmsh 2.2 text: tags offset by 100 (not contiguous from 1), plus a skipped triangle.
+std::string msh22(const TetMesh& m)
+{
+  std::ostringstream s;
+  s.precision(17);
+  s << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n3 1 \"body\"\n$EndPhysicalNames\n";
+  s << "$Nodes\n" << m.points.size() << "\n";
+  for (std::size_t i = 0; i < m.points.size(); ++i)
+    s << 100 + 2 * i << " " << m.points[i].x() << " " << m.points[i].y() << " " << m.points[i].z() << "\n";
+  s << "$EndNodes\n$Elements\n" << m.tets.size() + 1 << "\n";
+  s << "1 2 2 0 1 100 102 104\n";
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+  {
+    s << t + 2 << " 4 2 1 1";
+    for (int c = 0; c < 4; ++c)
+      s << " " << 100 + 2 * m.tets[t][c];
+    s << "\n";
+  }
+  s << "$EndElements\n";
+  return s.str();
+}
+
+/// Gmsh 4.1 text: two node blocks (one parametric), a triangle block and a tet block.
+std::string msh41(const TetMesh& m)
+{
+  std::ostringstream s;
+  s.precision(17);
+  const std::size_t n = m.points.size(), half = n / 2;
+  s << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 0 0 1\n1 0 0 0 1 1 1 0 0\n$EndEntities\n";
+  s << "$Nodes\n2 " << n << " 1 " << n << "\n";
+  s << "2 1 1 " << half << "\n";
+  for (std::size_t i = 0; i < half; ++i)
+    s << i + 1 << "\n";
+  for (std::size_t i = 0; i < half; ++i)
+    s << m.points[i].x() << " " << m.points[i].y() << " " << m.points[i].z() << " 0.1 0.2\n";
+  s << "3 1 0 " << n - half << "\n";
+  for (std::size_t i = half; i < n; ++i)
+    s << i + 1 << "\n";
+  for (std::size_t i = half; i < n; ++i)
+    s << m.points[i].x() << " " << m.points[i].y() << " " << m.points[i].z() << "\n";
+  s << "$EndNodes\n$Elements\n2 " << m.tets.size() + 1 << " 1 " << m.tets.size() + 1 << "\n";
+  s << "2 1 2 1\n1 1 2 3\n";
+  s << "3 1 4 " << m.tets.size() << "\n";
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+  {
+    s << t + 2;
+    for (int c = 0; c < 4; ++c)
+      s << " " << m.tets[t][c] + 1;
+    s << "\n";
+  }
+  s << "$EndElements\n";
+  return s.str();
+}
+
+void expectSameMesh(const TetMesh& a, const TetMesh& b)
+{
+  ASSERT_EQ(a.points.size(), b.points.size());
+  ASSERT_EQ(a.tets.size(), b.tets.size());
+  for (std::size_t i = 0; i < a.points.size(); ++i)
+    EXPECT_EQ(a.points[i], b.points[i]) << "point " << i;
+  for (std::size_t t = 0; t < a.tets.size(); ++t)
+    EXPECT_EQ(a.tets[t], b.tets[t]) << "tet " << t;
+}
+
+TetMesh sample()
+{
+  return makeTetBox(2, 2, 1, 0.25, Vec3(0.1, -0.2, 0.3));
+}
+
+/// Calls `read` on every cut of `text` and on randomly garbled copies: each either succeeds or
+/// throws InvalidInputError (any other exception or a crash fails the test).
+template <typename Read>
+void fuzz(const std::string& text, Read read, std::size_t& refused)
+{
+  std::mt19937 rng(1234);
+  std::vector<std::string> variants;
+  const std::size_t step = std::max<std::size_t>(1, text.size() / 150);
+  for (std::size_t cut = 0; cut < text.size(); cut += step)
+    variants.push_back(text.substr(0, cut));
+  const std::string garbage = "x-.9e$ \n#0123456789";
+  for (int k = 0; k < 300; ++k)
+  {
+    std::string g = text;
+    const int changes = 1 + k % 4;
+    for (int c = 0; c < changes; ++c)
+      g[rng() % g.size()] = garbage[rng() % garbage.size()];
+    variants.push_back(g);
+  }
+  for (const std::string& v : variants)
+  {
+    try
+    {
+      read(v);
+    }
+    catch (const InvalidInputError&)
+    {
+      ++refused;
+    }
+    catch (const std::exception& e)
+    {
+      ADD_FAILURE() << "unexpected exception " << e.what() << " for input:\n" << v;
+    }
+  }
+}
+
+std::string messageOf(const std::function<void()>& f)
+{
+  try
+  {
+    f();
+  }
+  catch (const InvalidInputError& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+} // namespace
+
+TEST_F(MeshFiles, TetGenRoundTrip)
+{
+  const TetMesh m = sample();
+  for (int first : { 0, 1 })
+  {
+    const auto [node, ele] = tetgenText(m, first);
+    const std::string base = "box" + std::to_string(first);
+    write(base + ".node", node);
+    const std::string elePath = write(base + ".ele", ele);
+    MeshFileInfo info;
+    expectSameMesh(m, readTetGenMesh(elePath, &info));
+    expectSameMesh(m, readTetGenMesh((dir / (base + ".node")).string()));
+    EXPECT_EQ(info.format, "TetGen");
+  }
+}
+
+TEST_F(MeshFiles, TetGenBadFiles)
+{
+  const TetMesh m = sample();
+  auto [node, ele] = tetgenText(m, 0);
+  EXPECT_NE(messageOf([&] { readTetGenMesh((dir / "none.node").string()); }).find("Cannot open"),
+    std::string::npos);
+  write("lonely.node", node);
+  EXPECT_NE(messageOf([&] { readTetGenMesh((dir / "lonely.node").string()); }).find("lonely.ele"),
+    std::string::npos);
+  // An index past the last point.
+  write("range.node", node);
+  write("range.ele", "1 4 0\n0 0 1 2 999\n");
+  EXPECT_NE(messageOf([&] { readTetGenMesh((dir / "range.ele").string()); }).find("range.node/.ele"),
+    std::string::npos);
+  write("tri.node", node);
+  write("tri.ele", "1 3 0\n0 0 1 2\n");
+  EXPECT_NE(messageOf([&] { readTetGenMesh((dir / "tri.ele").string()); }).find("4 (or 10)"),
+    std::string::npos);
+
+  std::size_t refused = 0;
+  const std::string nodePath = (dir / "f.node").string(), elePath = (dir / "f.ele").string();
+  fuzz(node, [&](const std::string& text) {
+    std::ofstream(nodePath, std::ios::binary | std::ios::trunc) << text;
+    std::ofstream(elePath, std::ios::binary | std::ios::trunc) << ele;
+    readTetGenMesh(nodePath);
+  }, refused);
+  fuzz(ele, [&](const std::string& text) {
+    std::ofstream(nodePath, std::ios::binary | std::ios::trunc) << node;
+    std::ofstream(elePath, std::ios::binary | std::ios::trunc) << text;
+    readTetGenMesh(elePath);
+  }, refused);
+  std::printf("TetGen fuzz: %zu variants refused\n", refused);
+  EXPECT_GT(refused, 100u);
+}
+
+TEST_F(MeshFiles, Gmsh22And41RoundTrip)
+{
+  const TetMesh m = sample();
+  MeshFileInfo info;
+  expectSameMesh(m, readGmshMesh(write("a.msh", msh22(m)), &info));
+  EXPECT_EQ(info.format, "Gmsh 2.2");
+  EXPECT_EQ(info.skippedElements, 1u);
+  // Windows line ends are read too.
+  std::string crlf;
+  for (char c : msh41(m))
+    crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  expectSameMesh(m, readGmshMesh(write("b.msh", crlf), &info));
+  EXPECT_EQ(info.format, "Gmsh 4.1");
+  EXPECT_EQ(info.skippedElements, 1u);
+}
+
+TEST_F(MeshFiles, GmshBadFiles)
+{
+  const TetMesh m = sample();
+  auto read = [](const std::string& text) {
+    std::istringstream in(text);
+    return readGmshMesh(in, "test.msh");
+  };
+  const std::string binary = "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n";
+  EXPECT_NE(messageOf([&] { read(binary); }).find("binary"), std::string::npos);
+  EXPECT_NE(messageOf([&] { read("$MeshFormat\n3.0 0 8\n$EndMeshFormat\n"); }).find("3.0"),
+    std::string::npos);
+  EXPECT_NE(messageOf([&] { read("solid cube\nfacet normal 0 0 1\n"); }).find("test.msh:1:"),
+    std::string::npos);
+  EXPECT_NE(messageOf([&] { read(""); }).find("empty"), std::string::npos);
+  std::string unknownNode = msh22(m);
+  unknownNode.replace(unknownNode.rfind(" 100"), 4, " 777");
+  EXPECT_NE(messageOf([&] { read(unknownNode); }).find("node 777"), std::string::npos);
+  std::string noTets = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n"
+                       "3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 0 1 2 3\n$EndElements\n";
+  EXPECT_NE(messageOf([&] { read(noTets); }).find("no tetrahedra"), std::string::npos);
+  // A truncated file names the line where it ends.
+  const std::string text = msh41(m);
+  const std::string cut = text.substr(0, text.find("$EndNodes"));
+  const std::string msg = messageOf([&] { read(cut); });
+  EXPECT_NE(msg.find("end of file"), std::string::npos) << msg;
+
+  std::size_t refused = 0;
+  fuzz(msh22(m), read, refused);
+  fuzz(text, read, refused);
+  std::printf("Gmsh fuzz: %zu variants refused\n", refused);
+  EXPECT_GT(refused, 300u);
+}
+
+// ../shared/data: real meshes with their published counts (data/README.md there).
+namespace
+{
+fs::path sharedData()
+{
+#ifdef SOFTBODY_SHARED_DATA_DIR
+  return SOFTBODY_SHARED_DATA_DIR;
+#else
+  return {};
+#endif
+}
+} // namespace
+
+TEST(SharedMeshes, LoadWithPublishedCounts)
+{
+  const fs::path data = sharedData();
+  if (data.empty() || !fs::is_directory(data))
+  {
+    GTEST_SKIP() << "shared data folder not found (" << data << "): skipping the public meshes";
+  }
+  struct Case
+  {
+    const char* file;
+    std::size_t points, tets;
+    const char* format;
+  };
+  const Case cases[] = { { "PositionBasedDynamics/armadillo_4k.ele", 1180, 3717, "TetGen" },
+    { "IPC/sphere5K.msh", 7034, 27792, "Gmsh 4.1" },
+    { "IPC/Armadillo13K.msh", 13230, 54985, "Gmsh 4.1" },
+    { "IPC/bunny.msh", 4670, 19379, "Gmsh 4.1" },
+    { "sofa/6_tetra_bad.msh", 17, 6, "Gmsh 2.2" } };
+  for (const Case& c : cases)
+  {
+    const std::string path = (data / c.file).string();
+    if (!fs::exists(path))
+    {
+      ADD_FAILURE() << path << " is missing from the shared data";
+      continue;
+    }
+    MeshFileInfo info;
+    const std::string name(c.file);
+    const TetMesh m = name.size() > 4 && name.substr(name.size() - 4) == ".msh"
+      ? readGmshMesh(path, &info)
+      : readTetGenMesh(path, &info);
+    EXPECT_EQ(m.points.size(), c.points) << c.file;
+    EXPECT_EQ(m.tets.size(), c.tets) << c.file;
+    EXPECT_EQ(info.format, c.format) << c.file;
+    std::printf("%s: %zu points, %zu tets, %zu other elements skipped\n", c.file,
+      m.points.size(), m.tets.size(), info.skippedElements);
+  }
+}
