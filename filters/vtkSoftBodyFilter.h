@@ -246,7 +246,7 @@ protected:
   double YoungsModulus = 1.0e5;
   double PoissonRatio = 0.3;
   double Density = 1100.0;
-  double DampingTime = 1.0e-3;
+  double DampingTime = 2.0e-3;
   // Raw-mode defaults; the constructor copies them from softbody::RawConstants.
   double DistanceStiffness = 0.0;
   double DistanceDamping = 0.0;

@@ -43,7 +43,7 @@ struct PhysicalMaterial
   double youngsModulus = 1.0e5; ///< E [Pa]; soft rubber
   double poissonRatio = 0.3;    ///< nu in [0.25, 0.5); below 0.25 is clamped to 0.25
   double density = 1100.0;      ///< rho [kg/m^3]
-  double dampingTime = 1.0e-3;  ///< beta [s]: stiffness-proportional damping
+  double dampingTime = 2.0e-3;  ///< beta [s]: stiffness-proportional damping
 };
 
 struct RawConstants
