@@ -1,15 +1,20 @@
 #include "vtkSoftBodyTetMeshOutput.h"
 
+#include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
 #include "vtkCellType.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
+#include "softbody/errors.h"
+
 #include <algorithm>
+#include <exception>
 
 void vtkSoftBodyTetMeshOutput::Fill(const softbody::TetMesh& mesh, vtkUnstructuredGrid* output)
 {
@@ -50,4 +55,44 @@ void vtkSoftBodyTetMeshOutput::Fill(const softbody::TetMesh& mesh, vtkUnstructur
 
   output->SetPoints(points);
   output->SetCells(types, cells);
+}
+
+//------------------------------------------------------------------------------
+int vtkSoftBodyTetMeshOutput::ReadFile(vtkAlgorithm* reader, const std::string& fileName,
+  Loader load, vtkUnstructuredGrid* output)
+{
+  if (!output)
+  {
+    vtkErrorWithObjectMacro(reader, "Missing output data object.");
+    return 0;
+  }
+  if (fileName.empty())
+  {
+    vtkErrorWithObjectMacro(reader, "No FileName given.");
+    return 0;
+  }
+  reader->UpdateProgress(0.0);
+  softbody::TetMesh mesh;
+  softbody::MeshFileInfo info;
+  try
+  {
+    mesh = load(fileName, &info);
+  }
+  catch (const softbody::InvalidInputError& e)
+  {
+    vtkErrorWithObjectMacro(reader, << e.what());
+    return 0;
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorWithObjectMacro(reader, << "Cannot read '" << fileName << "': " << e.what());
+    return 0;
+  }
+  Fill(mesh, output);
+  vtkNew<vtkIdTypeArray> skipped;
+  skipped->SetName("SkippedElements");
+  skipped->InsertNextValue(static_cast<vtkIdType>(info.skippedElements));
+  output->GetFieldData()->AddArray(skipped);
+  reader->UpdateProgress(1.0);
+  return 1;
 }

@@ -8,8 +8,12 @@
 #ifndef vtkSoftBodyTetMeshOutput_h
 #define vtkSoftBodyTetMeshOutput_h
 
+#include "softbody/mesh_io.h"
 #include "softbody/tet_mesh.h"
 
+#include <string>
+
+class vtkAlgorithm;
 class vtkUnstructuredGrid;
 
 class vtkSoftBodyTetMeshOutput
@@ -17,6 +21,15 @@ class vtkSoftBodyTetMeshOutput
 public:
   /// Replaces the content of `output` with `mesh`.
   static void Fill(const softbody::TetMesh& mesh, vtkUnstructuredGrid* output);
+
+  /// A core file loader: vtkTetGenReader and vtkGmshReader differ only in this.
+  using Loader = softbody::TetMesh (*)(const std::string& path, softbody::MeshFileInfo* info);
+
+  /// The whole RequestData of a tet-mesh reader: loads `fileName` with `load`, fills `output`
+  /// and adds field data SkippedElements. Errors are reported on `reader` (vtkErrorMacro
+  /// style) and return 0; success returns 1.
+  static int ReadFile(vtkAlgorithm* reader, const std::string& fileName, Loader load,
+    vtkUnstructuredGrid* output);
 };
 
 #endif
