@@ -25,7 +25,6 @@ How it is built (deterministic, no random numbers, no Delaunay):
 
 import argparse
 import itertools
-import math
 import os
 import sys
 

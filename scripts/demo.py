@@ -74,6 +74,12 @@ def main():
     for stale in (pvd, png):
         if os.path.exists(stale):
             os.remove(stale)
+    # Frames of an earlier run (perhaps with more frames) would be mixed with this run's.
+    frames_dir = os.path.join(args.output_dir, "softbody")
+    if os.path.isdir(frames_dir):
+        for name in os.listdir(frames_dir):
+            if name.startswith("softbody_") and name.endswith(".vtu"):
+                os.remove(os.path.join(frames_dir, name))
 
     import paraview.simple as pvs
     # Loads the plugin into this process (remote=False) and adds SoftBody() to paraview.simple.
@@ -84,13 +90,14 @@ def main():
     body.UpdatePipelineInformation()
     times = list(body.TimestepValues)
     print(f"demo: {mesh_file}: simulating {times[-1]:g} s, {len(times)} frames "
-          f"every {body.FrameInterval:g} s ({body.Integrator}, E = {body.YoungsModulus:g} Pa, "
+          f"every {body.FrameInterval:g} s ({body.Integrator.GetData()}, "
+          f"E = {body.YoungsModulus:g} Pa, "
           f"nu = {body.PoissonRatio:g}, density {body.Density:g} kg/m^3)", flush=True)
 
     # All frames into one .pvd (+ softbody/softbody_0_<k>.vtu): the writer steps through the
     # filter's TimestepValues; the filter simulates forward once, frame after frame.
     start = time.perf_counter()
-    pvs.SaveData(pvd, proxy=body, WriteTimeSteps=1)
+    pvs.SaveData(pvd, proxy=body, WriteTimeSteps=1, CompressorType="ZLib")
     simulated = time.perf_counter() - start
     print(f"demo: simulated and wrote {len(times)} frames in {simulated:.1f} s", flush=True)
 
@@ -141,25 +148,16 @@ def main():
     ghost.AmbientColor = ghost.DiffuseColor = [0.9, 0.9, 0.9]
     ghost.Opacity = 0.15
 
-    # The body at the chosen frame, colored by its volume change (1 = rest volume).
+    # The body at the chosen frame, a green jelly with its surface triangles drawn. (Colouring by
+    # VolumeRatio shows little at rest: the sag under its own weight changes volumes by < 0.1 %.)
     display = pvs.Show(body, view)
+    # Solid color. (ColorBy(display, None) raises "invalid association string 'NONE'" in 5.11
+    # when the display is not colored by an array yet.)
+    display.ColorArrayName = ["POINTS", ""]
     display.Representation = "Surface With Edges"
-    display.EdgeColor = [0.1, 0.2, 0.1]
-    if frame.GetCellData().GetArray("VolumeRatio") is not None:
-        pvs.ColorBy(display, ("CELLS", "VolumeRatio"))
-        lut = pvs.GetColorTransferFunction("VolumeRatio")
-        lut.ApplyPreset("Cool to Warm", True)
-        low, high = frame.GetCellData().GetArray("VolumeRatio").GetRange()
-        spread = max(abs(1.0 - low), abs(high - 1.0), 1e-3)
-        lut.RescaleTransferFunction(1.0 - spread, 1.0 + spread)   # centered on rest volume
-        lut.AutomaticRescaleRangeMode = "Never"
-        display.SetScalarBarVisibility(view, True)
-        bar = pvs.GetScalarBar(lut, view)
-        bar.Title = "Volume ratio"
-        bar.ComponentTitle = ""
-    else:
-        pvs.ColorBy(display, None)
-        display.AmbientColor = display.DiffuseColor = [0.4, 0.8, 0.3]
+    display.AmbientColor = display.DiffuseColor = [0.35, 0.78, 0.3]
+    display.EdgeColor = [0.12, 0.35, 0.1]
+    display.Specular = 0.4
 
     label = pvs.Text(registrationName="Label",
                      Text=f"Soft Body: jelly dropped on the floor, t = {t_shot:.2f} s")
@@ -172,8 +170,11 @@ def main():
     scene.AnimationTime = t_shot
     view.ViewTime = t_shot
 
+    # The first Render() of a session resets the camera (paraview.simple does that once): render
+    # first, then place the camera.
+    pvs.Render(view)
     # Camera: from the front-right, a little above the floor, looking at the rest position.
-    distance = 4.0 * extent
+    distance = 4.3 * extent
     view.CameraFocalPoint = [center[0], center[1], 0.5 * center[2]]
     view.CameraPosition = [center[0] + 0.75 * distance, center[1] - distance,
                            0.5 * center[2] + 0.55 * distance]
@@ -184,7 +185,6 @@ def main():
     print(f"demo: rendered in {time.perf_counter() - start:.1f} s", flush=True)
 
     # --- check and report ---------------------------------------------------------------------
-    frames_dir = os.path.join(args.output_dir, "softbody")
     frame_files = sorted(f for f in os.listdir(frames_dir) if f.endswith(".vtu")) \
         if os.path.isdir(frames_dir) else []
     ok = True

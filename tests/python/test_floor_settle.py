@@ -59,7 +59,7 @@ sbt.check(com0[2] - com[2] > 0.8 * drop,
           f"the center of mass came down by about the drop height {drop:.3f} m "
           f"({com0[2] - com[2]:.3f} m)")
 sbt.check(ratio.min() > 0.5 and ratio.max() < 1.5,
-          f"no tetrahedron inverted or badly crushed at rest (VolumeRatio in [0.5, 1.5])")
+          "no tetrahedron inverted or badly crushed at rest (VolumeRatio in [0.5, 1.5])")
 # Settled: an impact speed of sqrt(2 g h) ~ 2.4 m/s has decayed by two orders of magnitude.
 settle_speed = 0.02 * np.sqrt(2.0 * 9.81 * drop)
 sbt.check(speed.max() < settle_speed,
