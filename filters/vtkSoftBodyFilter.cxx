@@ -115,7 +115,7 @@ vtkSmartPointer<vtkPoints> MakePoints(const std::vector<softbody::Vec3>& positio
 class vtkSoftBodyFilter::vtkInternals
 {
 public:
-  std::unique_ptr<softbody::MassSpringSimulation> Simulation;
+  std::unique_ptr<softbody::Simulation> Simulation;
   vtkSoftBodyFrameCache Cache;
   /// Grid frame the simulation's state is exactly at; -1 when between frames or unknown.
   int SimulationFrame = -1;
@@ -469,7 +469,7 @@ bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input)
 bool vtkSoftBodyFilter::AdvanceTo(double t)
 {
   vtkInternals& internals = *this->Internals;
-  softbody::MassSpringSimulation& simulation = *internals.Simulation;
+  softbody::Simulation& simulation = *internals.Simulation;
   const vtkSoftBodyFrameGrid grid{ this->FrameInterval, this->EndTime };
   bool onGrid = true;
   const int target = grid.FrameOf(t, onGrid);
@@ -550,7 +550,7 @@ bool vtkSoftBodyFilter::AdvanceTo(double t)
 //------------------------------------------------------------------------------
 void vtkSoftBodyFilter::FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output)
 {
-  const softbody::MassSpringSimulation& simulation = *this->Internals->Simulation;
+  const softbody::Simulation& simulation = *this->Internals->Simulation;
 
   // Same cells (shared, not copied), new points; the input's arrays pass through.
   output->CopyStructure(input);
@@ -605,7 +605,7 @@ void vtkSoftBodyFilter::FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid
 //------------------------------------------------------------------------------
 void vtkSoftBodyFilter::FillParticles(vtkUnstructuredGrid* mesh, vtkPolyData* output)
 {
-  const softbody::MassSpringSimulation& simulation = *this->Internals->Simulation;
+  const softbody::Simulation& simulation = *this->Internals->Simulation;
   const vtkIdType numPoints = mesh->GetNumberOfPoints();
 
   // One vertex cell per point: offsets 0..n, connectivity 0..n-1.

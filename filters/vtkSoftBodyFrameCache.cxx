@@ -11,7 +11,8 @@ void vtkSoftBodyFrameCache::SetMemoryLimit(std::size_t bytes)
 std::size_t vtkSoftBodyFrameCache::SizeOf(const softbody::DynamicState& state)
 {
   return sizeof(softbody::DynamicState) +
-    (state.positions.capacity() + state.velocities.capacity()) * sizeof(softbody::Vec3);
+    (state.positions.capacity() + state.velocities.capacity()) * sizeof(softbody::Vec3) +
+    state.linkRestLengths.capacity() * sizeof(double) + state.linkBroken.capacity();
 }
 
 //------------------------------------------------------------------------------

@@ -224,16 +224,6 @@ std::vector<StageTiming> MassSpringSimulation::stageTimings() const
   return timings;
 }
 
-std::vector<std::string> MassSpringSimulation::plan() const
-{
-  std::vector<std::string> stages;
-  for (const StageTiming& timing : stageTimings())
-  {
-    stages.push_back(timing.stage);
-  }
-  return stages;
-}
-
 std::vector<double> MassSpringSimulation::tetVolumeRatios() const
 {
   std::vector<double> ratios(Topo.tets.size());

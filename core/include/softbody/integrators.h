@@ -44,6 +44,10 @@ struct DynamicState
   /// both sides, (h_prev + h) / 2, so its first step is the half kick that starts leapfrog
   /// exactly: free fall is reproduced to rounding.
   double previousStep = 0.0;
+  /// History of models whose links change as they move (PBD plastic and breakable links):
+  /// the current rest length and broken flag of each link. Empty for models without any.
+  std::vector<double> linkRestLengths;
+  std::vector<unsigned char> linkBroken;
 };
 
 /// Work arrays reused across steps (no allocation in the step loop).

@@ -6,9 +6,9 @@
 #include "softbody/integrators.h"
 #include "softbody/mass.h"
 #include "softbody/mass_spring_forces.h"
+#include "softbody/simulation.h"
 #include "softbody/tet_mesh.h"
 
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,64 +39,35 @@ struct BodyDescription
   MaterialSettings material;
 };
 
-/// Called during advance() with the fraction done; return false to abort.
-using ProgressCallback = std::function<bool(double fraction)>;
-
-enum class AdvanceStatus
-{
-  Completed,
-  Aborted
-};
-
-struct StageTiming
-{
-  std::string stage;
-  double seconds = 0.0; ///< accumulated wall time since construction
-};
-
-class MassSpringSimulation
+class MassSpringSimulation final : public Simulation
 {
 public:
   /// Validates and prepares the body; throws InvalidInputError with a user-facing message.
   MassSpringSimulation(BodyDescription body, const SceneSettings& scene);
 
-  /// Advances to `endTime` (>= time()) in equal steps no larger than stepSize(): the interval
-  /// is split into ceil(interval / stepSize()) steps, so a run that stops at frame times
-  /// produces exactly the same states as one that does not stop. Throws
-  /// SimulationDivergedError if the state turns non-finite or explodes.
-  AdvanceStatus advance(double endTime, const ProgressCallback& progress = {});
+  AdvanceStatus advance(double endTime, const ProgressCallback& progress = {}) override;
+  const DynamicState& state() const override { return State; }
+  void restoreState(const DynamicState& snapshot) override;
 
-  const DynamicState& state() const { return State; }
-  /// Resumes from a snapshot taken from this simulation (same body and settings).
-  void restoreState(const DynamicState& snapshot);
-
-  double time() const { return State.time; }
-  unsigned long long stepCount() const { return State.stepCount; }
-  const std::vector<Vec3>& positions() const { return State.positions; }
-  const std::vector<Vec3>& velocities() const { return State.velocities; }
-  const std::vector<Vec3>& restPositions() const { return Mesh.points; }
-  const std::vector<double>& inverseMasses() const { return Masses.inverseMass; }
+  const std::vector<Vec3>& restPositions() const override { return Mesh.points; }
+  const std::vector<double>& inverseMasses() const override { return Masses.inverseMass; }
   const std::vector<double>& masses() const { return Masses.mass; }
-  double totalMass() const { return Masses.totalMass; }
+  double totalMass() const override { return Masses.totalMass; }
   const Topology& topology() const { return Topo; }
   const ElementConstants& elementConstants() const { return Constants; }
 
   /// Current over rest volume of each tet (in core's orientation: inverted input tets that
   /// were re-oriented report positive ratios).
-  std::vector<double> tetVolumeRatios() const;
+  std::vector<double> tetVolumeRatios() const override;
 
-  double stepSize() const { return Step; }               ///< [s]
-  double estimatedStableStep() const { return StableStep; } ///< [s]; 0 if none is stable
+  double stepSize() const override { return Step; }
+  double estimatedStableStep() const override { return StableStep; }
   double highestFrequency() const { return OmegaMax; }   ///< bound [rad/s]
 
   /// Everything worth telling the user: re-oriented tets, clamped parameters, a step above
   /// the stability estimate, truncated inverse masses.
-  const std::vector<std::string>& warnings() const { return Warnings; }
-
-  /// The stages this scene runs per step, in order (only those it needs).
-  std::vector<std::string> plan() const;
-  /// The same stages, in the same order, with the wall time spent in each so far.
-  std::vector<StageTiming> stageTimings() const;
+  const std::vector<std::string>& warnings() const override { return Warnings; }
+  std::vector<StageTiming> stageTimings() const override;
 
 private:
   class Forces;
