@@ -4,8 +4,8 @@
 #include "softbody/stability.h"
 
 #include "softbody/parallel.h"
+#include "softbody/stepping.h"
 
-#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -30,26 +30,6 @@ constexpr const char* kStageNames[kStageCount] = { "forces", "integrate", "strai
 // A divergence check costs one pass over the edges; every few steps is enough to stop within
 // a small fraction of a frame.
 constexpr unsigned long long kDivergenceCheckInterval = 16;
-
-class ScopedStageTimer
-{
-public:
-  explicit ScopedStageTimer(double& seconds)
-    : Seconds(seconds)
-    , Start(std::chrono::steady_clock::now())
-  {
-  }
-  ~ScopedStageTimer()
-  {
-    Seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - Start).count();
-  }
-  ScopedStageTimer(const ScopedStageTimer&) = delete;
-  ScopedStageTimer& operator=(const ScopedStageTimer&) = delete;
-
-private:
-  double& Seconds;
-  std::chrono::steady_clock::time_point Start;
-};
 
 void validateScene(const SceneSettings& scene)
 {
@@ -293,9 +273,8 @@ AdvanceStatus MassSpringSimulation::advance(double endTime, const ProgressCallba
   {
     return AdvanceStatus::Completed;
   }
-  // Equal steps that land exactly on endTime; the 1e-9 slack keeps an interval that is a
-  // whole number of steps (up to rounding) from getting one extra step.
-  const auto steps = static_cast<unsigned long long>(std::ceil(interval / Step * (1.0 - 1e-9)));
+  // Equal steps that land exactly on endTime.
+  const unsigned long long steps = equalStepCount(interval, Step);
   const double h = interval / static_cast<double>(steps);
   const double startTime = State.time;
   for (unsigned long long s = 1; s <= steps; ++s)

@@ -1,0 +1,441 @@
+// The PBD/XPBD step as a whole: free fall, momentum, pins, floor response, the solver
+// comparisons of the PBD thesis, determinism across thread counts, breaking and plasticity.
+#include "softbody/cloth.h"
+#include "softbody/errors.h"
+#include "softbody/mesh_generators.h"
+#include "softbody/pbd_simulation.h"
+
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+
+namespace softbody
+{
+namespace
+{
+PbdBody boxBody(int n, double cell, const Vec3& origin = Vec3::Zero())
+{
+  const TetMesh mesh = makeTetBox(n, n, n, cell, origin);
+  PbdBody body;
+  body.points = mesh.points;
+  body.tets = mesh.tets;
+  body.density = 1000.0;
+  return body;
+}
+
+Vec3 centerOfMass(const PbdSimulation& sim, const std::vector<double>& mass)
+{
+  Vec3 c = Vec3::Zero();
+  double total = 0.0;
+  for (std::size_t i = 0; i < mass.size(); ++i)
+  {
+    c += mass[i] * sim.positions()[i];
+    total += mass[i];
+  }
+  return c / total;
+}
+
+std::vector<double> massesOf(const PbdSimulation& sim)
+{
+  std::vector<double> m;
+  for (double w : sim.inverseMasses())
+  {
+    m.push_back(w > 0 ? 1.0 / w : 0.0);
+  }
+  return m;
+}
+
+TEST(PbdSimulation, FreeFallFollowsSymplecticEulerAndVerletAgrees)
+{
+  PbdSettings settings;
+  settings.iterations = 5;
+  PbdSimulation euler(boxBody(2, 0.1), settings);
+  settings.prediction = PbdPrediction::Verlet;
+  PbdSimulation verlet(boxBody(2, 0.1), settings);
+  const double h = 0.01;
+  const int steps = 50;
+  for (int s = 0; s < steps; ++s)
+  {
+    euler.step(h);
+    verlet.step(h);
+  }
+  // Symplectic Euler: z_n = -g h^2 n (n + 1) / 2, i.e. g t^2 / 2 plus g t h / 2. The body is at
+  // rest internally, so every particle falls the same.
+  const double expected = -9.81 * h * h * steps * (steps + 1) / 2.0;
+  for (std::size_t i = 0; i < euler.positions().size(); ++i)
+  {
+    EXPECT_NEAR(euler.positions()[i].z() - euler.restPositions()[i].z(), expected, 1e-12);
+    EXPECT_NEAR((verlet.positions()[i] - euler.positions()[i]).norm(), 0.0, 1e-12);
+  }
+}
+
+TEST(PbdSimulation, InternalConstraintsConserveLinearMomentum)
+{
+  // Every projection moves its particles by mass-weighted gradients that sum to zero. Averaged
+  // Jacobi is the exception, by design: each particle divides its sum by its own constraint
+  // count, which trades exact momentum for stability, so it is not in this list.
+  for (PbdSolver solver : { PbdSolver::GaussSeidel, PbdSolver::ParallelGaussSeidel })
+  {
+    PbdSettings settings;
+    settings.gravity.setZero();
+    settings.solver = solver;
+    settings.volumes.compliance = 1e-9;
+    PbdSimulation sim(boxBody(3, 0.1), settings);
+    DynamicState kicked = sim.state();
+    kicked.positions = test::jitter(kicked.positions, 0.02);
+    kicked.velocities = test::randomVectors(kicked.velocities.size(), 1.0);
+    sim.restoreState(kicked);
+    const std::vector<double> m = massesOf(sim);
+    auto momentum = [&] {
+      Vec3 p = Vec3::Zero();
+      for (std::size_t i = 0; i < m.size(); ++i)
+      {
+        p += m[i] * sim.velocities()[i];
+      }
+      return p;
+    };
+    const Vec3 before = momentum();
+    for (int s = 0; s < 20; ++s)
+    {
+      sim.step(0.005);
+    }
+    EXPECT_LT((momentum() - before).norm(), 1e-12 * (1.0 + before.norm())) << int(solver);
+  }
+}
+
+TEST(PbdSimulation, PinnedParticlesNeverMove)
+{
+  ClothSpec spec;
+  spec.particlesAlong1 = spec.particlesAlong2 = 10;
+  spec.pins = ClothPins::Point2Corners; // a horizontal sheet held by two corners
+  PbdSettings settings;
+  PbdSimulation sim(makeCloth(spec), settings);
+  sim.advance(1.0);
+  EXPECT_EQ(sim.positions()[90], sim.restPositions()[90]);
+  EXPECT_EQ(sim.positions()[99], sim.restPositions()[99]);
+  EXPECT_LT(sim.positions()[0].z(), -0.1); // the rest hangs down
+}
+
+TEST(PbdSimulation, RestitutionAndFrictionAtTheFloor)
+{
+  // A flat cloth hits the floor at speed v: it leaves at e v. Then it slides with initial speed
+  // u and Coulomb friction slows it by mu g per second.
+  ClothSpec spec;
+  spec.particlesAlong1 = spec.particlesAlong2 = 4;
+  spec.origin = Vec3(0, 0, 0.5);
+  spec.point1 = Vec3(1, 0, 0.5);
+  spec.point2 = Vec3(0, 1, 0.5);
+  PbdSettings settings;
+  settings.floorEnabled = true;
+  settings.restitution = 0.5;
+  settings.timeStep = 1e-3;
+  PbdSimulation bounce(makeCloth(spec), settings);
+  double impact = 0.0, rebound = 0.0;
+  for (int s = 0; s < 600 && rebound <= 0.0; ++s)
+  {
+    const double before = bounce.velocities()[0].z();
+    bounce.step(1e-3);
+    if (bounce.velocities()[0].z() > 0.0)
+    {
+      impact = before - 9.81e-3; // the speed it arrived with, gravity kick included
+      rebound = bounce.velocities()[0].z();
+    }
+  }
+  ASSERT_LT(impact, -2.0);
+  EXPECT_NEAR(rebound, -0.5 * impact, 1e-9);
+
+  spec.origin.z() = spec.point1.z() = spec.point2.z() = 0.0;
+  settings.restitution = 0.0;
+  settings.friction = 0.3;
+  PbdSimulation slide(makeCloth(spec), settings);
+  DynamicState moving = slide.state();
+  std::fill(moving.velocities.begin(), moving.velocities.end(), Vec3(2.0, 0, 0));
+  slide.restoreState(moving);
+  slide.advance(0.4);
+  // v(t) = u - mu g t while sliding (it stops at t = 0.68 s).
+  EXPECT_NEAR(slide.velocities()[5].x(), 2.0 - 0.3 * 9.81 * 0.4, 0.01);
+}
+
+// Residual history of one step of the thesis's test: a 50 x 50 cloth stretched 16 times and
+// released (no gravity), at PBD stiffness 1.
+std::vector<double> stretchedClothResiduals(PbdSolver solver, double relaxation, int iterations)
+{
+  ClothSpec spec;
+  spec.particlesAlong1 = spec.particlesAlong2 = 50;
+  PbdSettings settings;
+  settings.formulation = PbdFormulation::Pbd;
+  settings.solver = solver;
+  settings.relaxation = relaxation;
+  settings.iterations = iterations;
+  settings.gravity.setZero();
+  PbdSimulation sim(makeCloth(spec), settings);
+  DynamicState stretched = sim.state();
+  for (Vec3& p : stretched.positions)
+  {
+    p *= 16.0;
+  }
+  sim.restoreState(stretched);
+  sim.setRecordResidualsEveryStep(true);
+  sim.step(1.0 / 60.0);
+  return sim.convergence().residualHistory;
+}
+
+TEST(PbdSimulation, GaussSeidelConvergesFasterPerIterationThanJacobi)
+{
+  const int n = 150;
+  const std::vector<double> gs = stretchedClothResiduals(PbdSolver::GaussSeidel, 1.0, n);
+  const std::vector<double> jacobi = stretchedClothResiduals(PbdSolver::Jacobi, 1.0, n);
+  const std::vector<double> colored = stretchedClothResiduals(PbdSolver::ParallelGaussSeidel, 1.0, n);
+  ASSERT_EQ(gs.size(), std::size_t(n));
+  ASSERT_EQ(jacobi.size(), std::size_t(n));
+  for (int k = 0; k < n; ++k)
+  {
+    EXPECT_LT(gs[k], jacobi[k]) << "iteration " << k;
+  }
+  // Colored Gauss-Seidel visits the constraints in color order, which spreads a correction
+  // less far per sweep than row order: it starts behind (the 16x stretch is far from linear)
+  // but converges at Gauss-Seidel's rate, so it overtakes Jacobi.
+  const auto rate = [](const std::vector<double>& r) { return r.back() / r[49]; };
+  EXPECT_LT(rate(colored), 0.8 * rate(jacobi));
+  EXPECT_LT(rate(gs), 0.8 * rate(jacobi));
+  EXPECT_LT(colored.back(), 0.85 * jacobi.back());
+  EXPECT_LT(gs.back(), 0.65 * jacobi.back());
+}
+
+// The thesis's hanging 64 x 64 cloth: the mean strain of its structural links after 1 s at
+// 60 Hz. PBD at stiffness 1 is as stiff as its iterations make it; XPBD's compliance sets a
+// material stretch that more iterations only approach.
+double hangingClothStretch(PbdFormulation formulation, int iterations)
+{
+  ClothSpec spec;
+  spec.particlesAlong1 = spec.particlesAlong2 = 64;
+  spec.origin = Vec3(0, 0, 0);
+  spec.point1 = Vec3(1, 0, 0);
+  spec.point2 = Vec3(0, 0, 1);
+  spec.pins = ClothPins::Point2Corners;
+  spec.totalMass = 1.0;
+  PbdSettings settings;
+  settings.formulation = formulation;
+  settings.iterations = iterations;
+  settings.links.stiffness = 1.0;
+  settings.links.compliance = 0.05; // [m/N]
+  settings.damping = 2.0;
+  settings.timeStep = 1.0 / 60.0;
+  PbdSimulation sim(makeCloth(spec), settings);
+  sim.advance(1.0);
+  // Mean strain of the structural links.
+  double strain = 0.0;
+  const DistanceBatch& links = sim.links();
+  const std::size_t structural = 2 * 64 * 63;
+  for (std::size_t c = 0; c < structural; ++c)
+  {
+    const auto& e = links.ends[c];
+    strain += (sim.positions()[e[0]] - sim.positions()[e[1]]).norm() / links.rest[c] - 1.0;
+  }
+  return strain / structural;
+}
+
+TEST(PbdSimulation, XpbdStretchDependsMuchLessOnIterationsThanPbd)
+{
+  const double pbd20 = hangingClothStretch(PbdFormulation::Pbd, 20);
+  const double pbd160 = hangingClothStretch(PbdFormulation::Pbd, 160);
+  const double xpbd20 = hangingClothStretch(PbdFormulation::Xpbd, 20);
+  const double xpbd160 = hangingClothStretch(PbdFormulation::Xpbd, 160);
+  std::printf("mean strain PBD 20: %.5f, 160: %.5f; XPBD 20: %.5f, 160: %.5f\n", pbd20, pbd160, xpbd20, xpbd160);
+  const double pbdChange = std::abs(pbd20 - pbd160) / pbd160;
+  const double xpbdChange = std::abs(xpbd20 - xpbd160) / xpbd160;
+  EXPECT_LT(xpbdChange, 0.25 * pbdChange);
+}
+
+std::vector<Vec3> runWithThreads(PbdSolver solver, int threads)
+{
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+  PbdSettings settings;
+  settings.solver = solver;
+  settings.floorEnabled = true;
+  settings.volumes.compliance = 1e-8;
+  PbdSimulation sim(boxBody(6, 0.05, Vec3(0, 0, 0.1)), settings);
+  DynamicState start = sim.state();
+  start.velocities = test::randomVectors(start.velocities.size(), 0.5);
+  sim.restoreState(start);
+  sim.advance(0.3);
+  return sim.positions();
+}
+
+TEST(PbdSimulation, ParallelSolversGiveTheSameResultAtAnyThreadCount)
+{
+  for (PbdSolver solver : { PbdSolver::ParallelGaussSeidel, PbdSolver::Jacobi })
+  {
+    const std::vector<Vec3> one = runWithThreads(solver, 1);
+    const std::vector<Vec3> two = runWithThreads(solver, 2);
+    ASSERT_EQ(one.size(), two.size());
+    for (std::size_t i = 0; i < one.size(); ++i)
+    {
+      ASSERT_EQ(one[i], two[i]) << "solver " << int(solver) << " point " << i; // bitwise
+    }
+  }
+}
+
+TEST(PbdSimulation, ColoringSeparatesConstraintsThatShareAParticle)
+{
+  PbdSettings settings;
+  settings.solver = PbdSolver::ParallelGaussSeidel;
+  ClothSpec spec;
+  PbdSimulation cloth(makeCloth(spec), settings);
+  EXPECT_LE(cloth.colorCount(), 12u); // a grid with diagonals has 8 neighbors per particle
+  const DistanceBatch& links = cloth.links();
+  const BatchSchedule schedule = makeSchedule(links, cloth.positions().size(), {});
+  const Coloring& coloring = schedule.coloring;
+  std::vector<int> seen(links.size(), 0);
+  for (std::size_t k = 0; k < coloring.colorCount(); ++k)
+  {
+    std::vector<char> used(cloth.positions().size(), 0);
+    for (auto c = coloring.colorOffsets[k]; c < coloring.colorOffsets[k + 1]; ++c)
+    {
+      const auto& e = links.ends[std::size_t(coloring.order[std::size_t(c)])];
+      EXPECT_FALSE(used[std::size_t(e[0])] || used[std::size_t(e[1])]);
+      used[std::size_t(e[0])] = used[std::size_t(e[1])] = 1;
+      ++seen[std::size_t(coloring.order[std::size_t(c)])];
+    }
+  }
+  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; }));
+}
+
+TEST(PbdSimulation, BreakableLinksBreakUnderAPullAndNeverAtRest)
+{
+  PbdSettings settings;
+  settings.floorEnabled = true;
+  settings.breakingStrain = 0.2;
+  settings.links.compliance = 1e-3; // [m/N]: a 0.2 m box of water-like density sags ~6%
+  settings.volumes.compliance = 1e-6;
+  PbdSimulation resting(boxBody(4, 0.05), settings);
+  resting.advance(2.0);
+  EXPECT_EQ(resting.brokenLinkCount(), 0u);
+
+  // The same links in a dense column (20x the density) hanging from its top face: its weight
+  // pulls it apart.
+  const TetMesh column = makeTetBox(1, 1, 6, 0.05, Vec3(0, 0, 1.0));
+  PbdBody bar;
+  bar.points = column.points;
+  bar.tets = column.tets;
+  bar.density = 20000.0;
+  bar.pinned.assign(bar.points.size(), 0);
+  for (std::size_t i = 0; i < bar.points.size(); ++i)
+  {
+    bar.pinned[i] = bar.points[i].z() > 1.3 - 1e-9;
+  }
+  settings.floorEnabled = false;
+  PbdSimulation pulled(bar, settings);
+  const DynamicState start = pulled.state();
+  pulled.advance(1.0);
+  EXPECT_GT(pulled.brokenLinkCount(), 0u);
+  // The lower part fell away: the body fragmented.
+  double lowest = 1.0;
+  for (const Vec3& p : pulled.positions())
+  {
+    lowest = std::min(lowest, p.z());
+  }
+  EXPECT_LT(lowest, -1.0);
+  // Broken state is part of the snapshot: restoring frame 0 heals the body.
+  pulled.restoreState(start);
+  EXPECT_EQ(pulled.brokenLinkCount(), 0u);
+}
+
+TEST(PbdSimulation, PlasticLinksKeepAPermanentStretch)
+{
+  // One link, one pinned end, the free end thrown outward: it swings out and back. Elastic, the
+  // rest length stays 1; plastic, it flows past the yield band and stays longer.
+  auto run = [](double yield, double breaking) {
+    PbdBody body;
+    body.points = { Vec3(0, 0, 0), Vec3(1, 0, 0) };
+    body.links = { { 0, 1 } };
+    body.pointMass = { 1.0, 1.0 };
+    body.pinned = { 1, 0 };
+    PbdSettings s;
+    s.gravity.setZero();
+    s.links.compliance = 0.01;
+    s.plasticYield = yield;
+    s.plasticCreep = yield > 0 ? 50.0 : 0.0;
+    s.breakingStrain = breaking;
+    PbdSimulation sim(body, s);
+    DynamicState start = sim.state();
+    start.velocities[1] = Vec3(8.0, 0, 0);
+    sim.restoreState(start);
+    sim.advance(2.0);
+    return std::make_pair(sim.links().rest[0], sim.brokenLinkCount());
+  };
+  const auto elastic = run(0.0, 10.0);
+  EXPECT_DOUBLE_EQ(elastic.first, 1.0);
+  const auto plastic = run(0.05, 10.0);
+  EXPECT_GT(plastic.first, 1.1);
+  EXPECT_EQ(plastic.second, 0u);
+  const auto tearing = run(0.05, 0.3); // past the break limit it breaks
+  EXPECT_EQ(tearing.second, 1u);
+}
+
+TEST(PbdSimulation, RestingBodyDoesNotGainEnergy)
+{
+  PbdSettings settings;
+  settings.floorEnabled = true;
+  settings.links.compliance = 1e-7;
+  settings.volumes.compliance = 1e-9;
+  PbdSimulation sim(boxBody(4, 0.05, Vec3(0, 0, 0.0)), settings);
+  const std::vector<double> m = massesOf(sim);
+  auto energy = [&] {
+    double e = 0.0;
+    for (std::size_t i = 0; i < m.size(); ++i)
+    {
+      e += 0.5 * m[i] * sim.velocities()[i].squaredNorm() + m[i] * 9.81 * sim.positions()[i].z();
+    }
+    return e;
+  };
+  const double start = energy();
+  const double scale = 9.81 * sim.totalMass() * 0.2; // mg times the body height
+  for (int frame = 1; frame <= 60; ++frame)
+  {
+    sim.advance(frame * 0.05);
+    EXPECT_LE(energy(), start + 1e-9 * scale) << "t = " << sim.time();
+  }
+  EXPECT_NEAR(centerOfMass(sim, m).z(), 0.1, 0.005); // still resting, not sunk
+}
+
+TEST(PbdSimulation, ResidualToleranceStopsEarly)
+{
+  PbdSettings settings;
+  settings.iterations = 200;
+  settings.residualTolerance = 1e-6;
+  settings.gravity.setZero();
+  PbdSimulation sim(boxBody(3, 0.1), settings);
+  DynamicState squashed = sim.state();
+  squashed.positions = test::jitter(squashed.positions, 0.01);
+  sim.restoreState(squashed);
+  sim.advance(1.0 / 120.0);
+  EXPECT_LT(sim.convergence().iterations, 200);
+  EXPECT_LT(sim.convergence().residual, 1e-6);
+  EXPECT_EQ(sim.convergence().residualHistory.size(), std::size_t(sim.convergence().iterations));
+}
+
+TEST(PbdSimulation, BadSettingsAndBodiesAreRefused)
+{
+  PbdSettings bad;
+  bad.relaxation = 2.5;
+  EXPECT_THROW(PbdSimulation(boxBody(1, 0.1), bad), InvalidInputError);
+  PbdSettings good;
+  PbdBody linksWithoutMass;
+  linksWithoutMass.points = { Vec3(0, 0, 0), Vec3(1, 0, 0) };
+  linksWithoutMass.links = { { 0, 1 } };
+  EXPECT_THROW(PbdSimulation(linksWithoutMass, good), InvalidInputError);
+  PbdBody coincident = linksWithoutMass;
+  coincident.points[1] = coincident.points[0];
+  coincident.pointMass = { 1, 1 };
+  EXPECT_THROW(PbdSimulation(coincident, good), InvalidInputError);
+  PbdBody nothing;
+  nothing.points = { Vec3(0, 0, 0) };
+  EXPECT_THROW(PbdSimulation(nothing, good), InvalidInputError);
+}
+
+} // namespace
+} // namespace softbody
