@@ -2,6 +2,7 @@
 
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyInputConversion.h"
+#include "vtkSoftBodyPbdAdapter.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -17,6 +18,7 @@
 #include "vtkPolyData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
+#include "vtkTable.h"
 #include "vtkUnstructuredGrid.h"
 
 #include "softbody/errors.h"
@@ -116,6 +118,9 @@ class vtkSoftBodyFilter::vtkInternals
 {
 public:
   std::unique_ptr<softbody::Simulation> Simulation;
+  /// Set when the simulation is PBD/XPBD (it is then also `Simulation`).
+  softbody::PbdSimulation* Pbd = nullptr;
+  vtkSoftBodyPbdAdapter PbdAdapter;
   vtkSoftBodyFrameCache Cache;
   /// Grid frame the simulation's state is exactly at; -1 when between frames or unknown.
   int SimulationFrame = -1;
@@ -130,6 +135,7 @@ public:
   void Discard()
   {
     this->Simulation.reset();
+    this->Pbd = nullptr;
     this->Cache.Clear();
     this->SimulationFrame = -1;
     this->Input = nullptr;
@@ -142,7 +148,7 @@ vtkSoftBodyFilter::vtkSoftBodyFilter()
   : Internals(new vtkInternals)
 {
   this->SetNumberOfInputPorts(1);
-  this->SetNumberOfOutputPorts(2);
+  this->SetNumberOfOutputPorts(3);
   // One source of truth for the raw-mode defaults: core's RawConstants.
   const softbody::RawConstants raw;
   this->DistanceStiffness = raw.distanceStiffness;
@@ -175,7 +181,8 @@ int vtkSoftBodyFilter::FillInputPortInformation(int port, vtkInformation* info)
 //------------------------------------------------------------------------------
 int vtkSoftBodyFilter::FillOutputPortInformation(int port, vtkInformation* info)
 {
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkUnstructuredGrid" : "vtkPolyData");
+  const char* types[] = { "vtkUnstructuredGrid", "vtkPolyData", "vtkTable" };
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), types[std::min(port, 2)]);
   return 1;
 }
 
@@ -212,6 +219,10 @@ std::string vtkSoftBodyFilter::ValidateParameters() const
   else if (!(this->DampingTime >= 0.0) || !(this->MaxInverseMass >= 0.0))
   {
     msg << "DampingTime and MaxInverseMass must be >= 0.";
+  }
+  else if (this->Method != MASS_SPRING)
+  {
+    // PBD/XPBD settings are checked by core, which names the property.
   }
   else if (this->MaterialMode == PHYSICAL && !(this->YoungsModulus > 0.0))
   {
@@ -289,7 +300,8 @@ int vtkSoftBodyFilter::RequestData(
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
   vtkUnstructuredGrid* mesh = vtkUnstructuredGrid::GetData(outputVector, 0);
   vtkPolyData* particles = vtkPolyData::GetData(outputVector, 1);
-  if (!input || !mesh || !particles)
+  vtkTable* convergence = vtkTable::GetData(outputVector, 2);
+  if (!input || !mesh || !particles || !convergence)
   {
     vtkErrorMacro("Missing input or output data object.");
     return 0;
@@ -374,6 +386,7 @@ int vtkSoftBodyFilter::RequestData(
   // Assemble the outputs.
   this->FillMesh(input, mesh);
   this->FillParticles(mesh, particles);
+  this->FillConvergence(convergence);
   stampTime();
   return 1;
 }
@@ -393,7 +406,12 @@ bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input)
     this->YoungsModulus, this->PoissonRatio, this->Density, this->DampingTime,
     this->DistanceStiffness, this->DistanceDamping, this->VolumeStiffness, this->VolumeDamping,
     this->TotalMass, double(this->MassDistribution), this->MaxInverseMass, this->StrainLimit,
-    double(this->StrainLimitIterations), double(this->InvertedTets) };
+    double(this->StrainLimitIterations), double(this->InvertedTets), double(this->Solver),
+    double(this->Iterations), this->ResidualTolerance, this->Relaxation, double(this->Substeps),
+    this->PBDLinkStiffness, this->PBDVolumeStiffness, this->PBDPinStiffness,
+    this->XPBDLinkCompliance, this->XPBDVolumeCompliance, this->XPBDPinCompliance,
+    this->BreakingStrain, this->PlasticYield, this->PlasticCreep, this->Friction,
+    this->Restitution, this->VelocityDamping };
   const std::string pinned =
     vtkSoftBodyInputConversion::IsNoArray(this->PinnedPointsArray) ? "" : this->PinnedPointsArray;
   if (internals.Simulation && internals.Input == input &&
@@ -404,6 +422,47 @@ bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input)
   }
   internals.Discard();
 
+  if (this->Method == PBD || this->Method == XPBD)
+  {
+    std::string error;
+    std::unique_ptr<softbody::PbdSimulation> pbd = internals.PbdAdapter.Create(*this, input, pinned, error);
+    if (!pbd)
+    {
+      vtkErrorMacro(<< error);
+      return false;
+    }
+    internals.Pbd = pbd.get();
+    internals.Simulation = std::move(pbd);
+  }
+  else if (!this->CreateMassSpring(input, pinned))
+  {
+    return false;
+  }
+  internals.Cache.Insert(0, internals.Simulation->state());
+  internals.SimulationFrame = 0;
+  internals.Input = input;
+  internals.InputMTime = input->GetMTime();
+  internals.Parameters = parameters;
+  internals.PinnedPointsArray = pinned;
+
+  // Said once per simulation, not on every frame; the Warnings field data repeats them.
+  const std::vector<std::string>& warnings = internals.Simulation->warnings();
+  if (!warnings.empty())
+  {
+    std::ostringstream msg;
+    for (const std::string& warning : warnings)
+    {
+      msg << "\n  " << warning;
+    }
+    vtkWarningMacro(<< "Soft body set up with warnings:" << msg.str());
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkSoftBodyFilter::CreateMassSpring(vtkUnstructuredGrid* input, const std::string& pinned)
+{
+  vtkInternals& internals = *this->Internals;
   softbody::BodyDescription body;
   const std::string inputError = vtkSoftBodyInputConversion::Convert(input, pinned, body);
   if (!inputError.empty())
@@ -444,24 +503,6 @@ bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input)
   // Throws InvalidInputError for bad geometry or material; the caller reports it.
   internals.Simulation =
     std::make_unique<softbody::MassSpringSimulation>(std::move(body), scene);
-  internals.Cache.Insert(0, internals.Simulation->state());
-  internals.SimulationFrame = 0;
-  internals.Input = input;
-  internals.InputMTime = input->GetMTime();
-  internals.Parameters = parameters;
-  internals.PinnedPointsArray = pinned;
-
-  // Said once per simulation, not on every frame; the Warnings field data repeats them.
-  const std::vector<std::string>& warnings = internals.Simulation->warnings();
-  if (!warnings.empty())
-  {
-    std::ostringstream msg;
-    for (const std::string& warning : warnings)
-    {
-      msg << "\n  " << warning;
-    }
-    vtkWarningMacro(<< "Soft body set up with warnings:" << msg.str());
-  }
   return true;
 }
 
@@ -588,6 +629,11 @@ void vtkSoftBodyFilter::FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid
 
   field->AddArray(MakeStringArray(
     "Integrator", { softbody::integratorName(CoreIntegrator(this->Integrator)) }));
+  if (const softbody::PbdSimulation* pbd = this->Internals->Pbd)
+  {
+    this->Internals->PbdAdapter.AddBrokenCells(*pbd, output);
+    vtkSoftBodyPbdAdapter::AddConvergenceFields(*pbd, output);
+  }
 
   // StageSeconds is parallel to Plan: each planned stage's accumulated wall time.
   std::vector<std::string> plan;
@@ -626,6 +672,15 @@ void vtkSoftBodyFilter::FillParticles(vtkUnstructuredGrid* mesh, vtkPolyData* ou
 }
 
 //------------------------------------------------------------------------------
+void vtkSoftBodyFilter::FillConvergence(vtkTable* output)
+{
+  if (const softbody::PbdSimulation* pbd = this->Internals->Pbd)
+  {
+    vtkSoftBodyPbdAdapter::FillConvergenceTable(*pbd, output);
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkSoftBodyFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -658,6 +713,23 @@ void vtkSoftBodyFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "StrainLimit: " << this->StrainLimit << "\n";
   os << indent << "StrainLimitIterations: " << this->StrainLimitIterations << "\n";
   os << indent << "InvertedTets: " << this->InvertedTets << "\n";
+  os << indent << "Solver: " << this->Solver << "\n";
+  os << indent << "Iterations: " << this->Iterations << "\n";
+  os << indent << "ResidualTolerance: " << this->ResidualTolerance << "\n";
+  os << indent << "Relaxation: " << this->Relaxation << "\n";
+  os << indent << "Substeps: " << this->Substeps << "\n";
+  os << indent << "PBDLinkStiffness: " << this->PBDLinkStiffness << "\n";
+  os << indent << "PBDVolumeStiffness: " << this->PBDVolumeStiffness << "\n";
+  os << indent << "PBDPinStiffness: " << this->PBDPinStiffness << "\n";
+  os << indent << "XPBDLinkCompliance: " << this->XPBDLinkCompliance << "\n";
+  os << indent << "XPBDVolumeCompliance: " << this->XPBDVolumeCompliance << "\n";
+  os << indent << "XPBDPinCompliance: " << this->XPBDPinCompliance << "\n";
+  os << indent << "BreakingStrain: " << this->BreakingStrain << "\n";
+  os << indent << "PlasticYield: " << this->PlasticYield << "\n";
+  os << indent << "PlasticCreep: " << this->PlasticCreep << "\n";
+  os << indent << "Friction: " << this->Friction << "\n";
+  os << indent << "Restitution: " << this->Restitution << "\n";
+  os << indent << "VelocityDamping: " << this->VelocityDamping << "\n";
   os << indent << "CacheMemoryLimit: " << this->CacheMemoryLimit << " MiB\n";
   os << indent << "SimulatedStepsTotal: " << this->SimulatedStepsTotal << "\n";
   os << indent << "CachedFrames: " << this->Internals->Cache.GetNumberOfFrames() << " ("

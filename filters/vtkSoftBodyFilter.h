@@ -1,19 +1,25 @@
 /**
  * @class   vtkSoftBodyFilter
- * @brief   Simulates a tetrahedral mesh as a mass-spring soft body and outputs it over time.
+ * @brief   Simulates a mesh as a soft body (mass-spring, PBD or XPBD) and outputs it over time.
  *
- * The input is a vtkUnstructuredGrid of tetrahedra at rest (apply Tetrahedralize first if it
- * holds other cells). The filter is a time source: it advertises the times
+ * The input is a vtkUnstructuredGrid at rest: tetrahedra for the mass-spring method; for PBD and
+ * XPBD tetrahedra (edges and volumes) and line cells (distance links, e.g. from Soft Body
+ * Cloth), other cells moving with their points. The filter is a time source: it advertises the times
  * 0, FrameInterval, 2 FrameInterval, ..., EndTime, and for a requested time it outputs
  *
  * - port 0 ("Mesh"): the input grid with its points moved, the input point and cell arrays passed
  *   through, point arrays "Velocity" [m/s] and "Displacement" [m], cell array "VolumeRatio"
  *   (current / rest volume) and field data "SimulationTime", "StepCount", "TimeStep",
- *   "StableTimeStep", "Integrator", "Plan", "StageSeconds", "Warnings" and "TotalMass";
+ *   "StableTimeStep", "Integrator", "Plan", "StageSeconds", "Warnings" and "TotalMass"; for PBD
+ *   and XPBD also cell array "Broken" (broken links, and tets with a broken edge, which are
+ *   hidden through vtkGhostType so the body visibly fragments) and field data "Iterations" and
+ *   "Residual" of the frame's last step;
  * - port 1 ("Particles"): a vtkPolyData with one vertex per point and point arrays "Velocity" and
- *   "InverseMass".
+ *   "InverseMass";
+ * - port 2 ("Convergence"): a vtkTable of the residual after each iteration of the frame's last
+ *   (sub)step (PBD and XPBD; empty for mass-spring).
  *
- * The physics lives in softbody::MassSpringSimulation (core library, no VTK). This class only
+ * The physics lives in core (softbody::MassSpringSimulation, softbody::PbdSimulation; no VTK). This class only
  * translates: properties to core settings, the input to a core body, time requests to
  * `advance` calls, and core's arrays back to VTK arrays.
  *
@@ -33,6 +39,7 @@
 #include <string> // for std::string
 
 class vtkPolyData;
+class vtkTable;
 class vtkUnstructuredGrid;
 
 class SOFTBODYFILTERS_EXPORT vtkSoftBodyFilter : public vtkUnstructuredGridAlgorithm
@@ -44,7 +51,15 @@ public:
 
   enum MethodType
   {
-    MASS_SPRING = 0
+    MASS_SPRING = 0,
+    PBD = 1,
+    XPBD = 2
+  };
+  enum SolverType
+  {
+    GAUSS_SEIDEL = 0,
+    JACOBI = 1,
+    PARALLEL_GAUSS_SEIDEL = 2
   };
   enum IntegratorType
   {
@@ -71,10 +86,79 @@ public:
 
   ///@{
   /**
-   * Method: the simulation model. Only MASS_SPRING (0) exists for now.
+   * Method: MASS_SPRING (0, tetrahedra only), PBD (1) or XPBD (2) (tetrahedra, and line cells
+   * as distance links; other cells move with their points).
    */
-  vtkSetClampMacro(Method, int, MASS_SPRING, MASS_SPRING);
+  vtkSetClampMacro(Method, int, MASS_SPRING, XPBD);
   vtkGetMacro(Method, int);
+  ///@}
+
+  ///@{
+  /**
+   * PBD/XPBD solver: GAUSS_SEIDEL (SOR when Relaxation != 1), JACOBI (averaged, relaxed) or
+   * PARALLEL_GAUSS_SEIDEL (graph-colored; same result at any thread count).
+   */
+  vtkSetClampMacro(Solver, int, GAUSS_SEIDEL, PARALLEL_GAUSS_SEIDEL);
+  vtkGetMacro(Solver, int);
+  /// Iterations per (sub)step; the cap when ResidualTolerance > 0.
+  vtkSetClampMacro(Iterations, int, 1, VTK_INT_MAX);
+  vtkGetMacro(Iterations, int);
+  /// Stop iterating below this residual (constraint units); 0 = always run Iterations.
+  vtkSetClampMacro(ResidualTolerance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(ResidualTolerance, double);
+  /// SOR factor (Gauss-Seidel) or Jacobi's relaxation, in (0, 2).
+  vtkSetClampMacro(Relaxation, double, 0.0, 2.0);
+  vtkGetMacro(Relaxation, double);
+  /// Substeps per time step (each runs Iterations iterations).
+  vtkSetClampMacro(Substeps, int, 1, VTK_INT_MAX);
+  vtkGetMacro(Substeps, int);
+  ///@}
+
+  ///@{
+  /**
+   * PBD stiffnesses in [0, 1] of links (distance), tet volumes and soft pins; applied per
+   * iteration as 1 - (1 - k)^(1/Iterations). A pin stiffness of 1 fixes pinned points.
+   */
+  vtkSetClampMacro(PBDLinkStiffness, double, 0.0, 1.0);
+  vtkGetMacro(PBDLinkStiffness, double);
+  vtkSetClampMacro(PBDVolumeStiffness, double, 0.0, 1.0);
+  vtkGetMacro(PBDVolumeStiffness, double);
+  vtkSetClampMacro(PBDPinStiffness, double, 0.0, 1.0);
+  vtkGetMacro(PBDPinStiffness, double);
+  ///@}
+
+  ///@{
+  /**
+   * XPBD compliances (inverse stiffness): links [m/N], tet volumes [m^3/Pa] (the constraint is
+   * V - V0), pins [m/N]; 0 is rigid (a pin compliance of 0 fixes pinned points).
+   */
+  vtkSetClampMacro(XPBDLinkCompliance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(XPBDLinkCompliance, double);
+  vtkSetClampMacro(XPBDVolumeCompliance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(XPBDVolumeCompliance, double);
+  vtkSetClampMacro(XPBDPinCompliance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(XPBDPinCompliance, double);
+  ///@}
+
+  ///@{
+  /**
+   * PBD/XPBD materials and contacts: links break past BreakingStrain (relative to their
+   * original length; 0 = never); past PlasticYield their rest length creeps toward the current
+   * length at PlasticCreep [1/s] (0 = elastic). Friction (Coulomb) and Restitution act at the
+   * floor; VelocityDamping [1/s] damps all motion.
+   */
+  vtkSetClampMacro(BreakingStrain, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(BreakingStrain, double);
+  vtkSetClampMacro(PlasticYield, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(PlasticYield, double);
+  vtkSetClampMacro(PlasticCreep, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(PlasticCreep, double);
+  vtkSetClampMacro(Friction, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(Friction, double);
+  vtkSetClampMacro(Restitution, double, 0.0, 1.0);
+  vtkGetMacro(Restitution, double);
+  vtkSetClampMacro(VelocityDamping, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(VelocityDamping, double);
   ///@}
 
   ///@{
@@ -259,6 +343,23 @@ protected:
   int StrainLimitIterations = 4;
   int InvertedTets = REORIENT;
   int CacheMemoryLimit = 512;
+  int Solver = GAUSS_SEIDEL;
+  int Iterations = 10;
+  double ResidualTolerance = 0.0;
+  double Relaxation = 1.0;
+  int Substeps = 1;
+  double PBDLinkStiffness = 1.0;
+  double PBDVolumeStiffness = 1.0;
+  double PBDPinStiffness = 1.0;
+  double XPBDLinkCompliance = 1.0e-4;
+  double XPBDVolumeCompliance = 1.0e-10;
+  double XPBDPinCompliance = 0.0;
+  double BreakingStrain = 0.0;
+  double PlasticYield = 0.0;
+  double PlasticCreep = 0.0;
+  double Friction = 0.3;
+  double Restitution = 0.0;
+  double VelocityDamping = 0.0;
 
 private:
   vtkSoftBodyFilter(const vtkSoftBodyFilter&) = delete;
@@ -268,9 +369,11 @@ private:
   std::string ValidateParameters() const;
   /// Builds the simulation (and empties the cache) unless input and parameters are unchanged.
   bool PrepareSimulation(vtkUnstructuredGrid* input);
+  bool CreateMassSpring(vtkUnstructuredGrid* input, const std::string& pinnedArrayName);
   /// Brings the simulation to time `t` through the cache; false when aborted.
   bool AdvanceTo(double t);
   void FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output);
+  void FillConvergence(vtkTable* output);
   void FillParticles(vtkUnstructuredGrid* mesh, vtkPolyData* output);
 
   class vtkInternals;

@@ -1,6 +1,7 @@
 #include "vtkSoftBodyInputConversion.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkCellType.h"
 #include "vtkCellTypes.h"
 #include "vtkDataArray.h"
@@ -20,20 +21,31 @@ bool vtkSoftBodyInputConversion::IsNoArray(const std::string& name)
 }
 
 //------------------------------------------------------------------------------
-std::string vtkSoftBodyInputConversion::Convert(
-  vtkUnstructuredGrid* input, const std::string& pinnedArrayName, softbody::BodyDescription& body)
+std::string vtkSoftBodyInputConversion::CheckSize(vtkUnstructuredGrid* input)
 {
   if (!input || input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0 ||
     !input->GetCells())
   {
-    return "empty input: the soft body needs a tetrahedral mesh with points and cells.";
+    return "empty input: the soft body needs a mesh with points and cells.";
   }
   // Core indexes points with 32-bit integers (half the memory of vtkIdType in its hot arrays).
   if (input->GetNumberOfPoints() > std::numeric_limits<std::int32_t>::max())
   {
     return "the input has too many points for the simulation (more than 2^31 - 1).";
   }
-  std::string error = ConvertTets(input, body.mesh);
+  return {};
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodyInputConversion::Convert(
+  vtkUnstructuredGrid* input, const std::string& pinnedArrayName, softbody::BodyDescription& body)
+{
+  std::string error = CheckSize(input);
+  if (!error.empty())
+  {
+    return error;
+  }
+  error = ConvertTets(input, body.mesh);
   if (error.empty())
   {
     error = ConvertPoints(input, body.mesh);
@@ -160,4 +172,117 @@ std::string vtkSoftBodyInputConversion::ConvertPinned(
     }
   }
   return {};
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+std::int32_t ToIndex(vtkIdType id)
+{
+  // Out-of-range ids become -1, which core reports as a bad index.
+  return (id < 0 || id > std::numeric_limits<std::int32_t>::max()) ? -1
+                                                                    : static_cast<std::int32_t>(id);
+}
+
+/// Copies a one-component numeric array into `values`; an empty string on success.
+std::string ReadScalars(vtkAbstractArray* abstractArray, const char* what, vtkIdType count,
+  std::vector<double>& values)
+{
+  vtkDataArray* array = vtkDataArray::SafeDownCast(abstractArray);
+  if (!array || array->GetNumberOfComponents() != 1 || array->GetNumberOfTuples() != count)
+  {
+    return std::string("the ") + what + " array must be numeric with one value per item.";
+  }
+  values.resize(static_cast<std::size_t>(count));
+  for (vtkIdType i = 0; i < count; ++i)
+  {
+    values[static_cast<std::size_t>(i)] = array->GetTuple1(i);
+  }
+  return {};
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodyInputConversion::ConvertParticles(vtkUnstructuredGrid* input,
+  const std::string& pinnedArrayName, softbody::PbdBody& body, std::vector<vtkIdType>& tetCells,
+  std::vector<vtkIdType>& linkCells)
+{
+  std::string error = CheckSize(input);
+  if (!error.empty())
+  {
+    return error;
+  }
+  std::vector<double> cellScale;
+  if (vtkAbstractArray* scale = input->GetCellData()->GetAbstractArray("LinkStiffnessScale"))
+  {
+    error = ReadScalars(scale, "LinkStiffnessScale cell", input->GetNumberOfCells(), cellScale);
+    if (!error.empty())
+    {
+      return error;
+    }
+  }
+
+  std::map<int, vtkIdType> solidTypes; // 3D cells other than tets: refused
+  tetCells.clear();
+  linkCells.clear();
+  for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+  {
+    const int type = input->GetCellType(c);
+    vtkIdType npts = 0;
+    const vtkIdType* pts = nullptr;
+    input->GetCellPoints(c, npts, pts);
+    if (type == VTK_TETRA && npts == 4)
+    {
+      body.tets.push_back({ ToIndex(pts[0]), ToIndex(pts[1]), ToIndex(pts[2]), ToIndex(pts[3]) });
+      tetCells.push_back(c);
+    }
+    else if (type == VTK_LINE || type == VTK_POLY_LINE)
+    {
+      for (vtkIdType k = 0; k + 1 < npts; ++k)
+      {
+        body.links.push_back({ ToIndex(pts[k]), ToIndex(pts[k + 1]) });
+        body.linkStiffnessScale.push_back(cellScale.empty() ? 1.0 : cellScale[static_cast<std::size_t>(c)]);
+        linkCells.push_back(c);
+      }
+    }
+    else if (vtkCellTypes::GetDimension(static_cast<unsigned char>(type)) == 3)
+    {
+      ++solidTypes[type];
+    }
+  }
+  if (!solidTypes.empty())
+  {
+    std::ostringstream msg;
+    msg << "PBD and XPBD simulate tetrahedra and line cells; the input also has ";
+    const char* separator = "";
+    for (const auto& typeCount : solidTypes)
+    {
+      const char* name = vtkCellTypes::GetClassNameFromTypeId(typeCount.first);
+      msg << separator << typeCount.second << " " << (name ? name : "unknown 3D cells");
+      separator = ", ";
+    }
+    msg << ". Apply ParaView's Tetrahedralize filter first.";
+    return msg.str();
+  }
+  for (const auto& link : body.links)
+  {
+    if (link[0] < 0 || link[1] < 0 || link[0] >= input->GetNumberOfPoints() ||
+      link[1] >= input->GetNumberOfPoints())
+    {
+      return "a line cell refers to a point the input does not have.";
+    }
+  }
+
+  softbody::TetMesh points;
+  ConvertPoints(input, points);
+  body.points = std::move(points.points);
+  if (vtkAbstractArray* mass = input->GetPointData()->GetAbstractArray("Mass"))
+  {
+    error = ReadScalars(mass, "Mass point", input->GetNumberOfPoints(), body.pointMass);
+    if (!error.empty())
+    {
+      return error;
+    }
+  }
+  return ConvertPinned(input, pinnedArrayName, body.pinned);
 }

@@ -14,6 +14,9 @@
 #define vtkSoftBodyInputConversion_h
 
 #include "softbody/mass_spring_simulation.h" // softbody::BodyDescription
+#include "softbody/pbd_simulation.h"          // softbody::PbdBody
+
+#include "vtkType.h" // vtkIdType
 
 #include <string>
 
@@ -31,10 +34,22 @@ public:
   static std::string Convert(
     vtkUnstructuredGrid* input, const std::string& pinnedArrayName, softbody::BodyDescription& body);
 
+  /**
+   * For PBD and XPBD: tetrahedra (volumes and edges), line and poly-line cells (a distance link
+   * per segment, scaled by the cell array "LinkStiffnessScale" when present), and any vertex
+   * or surface cells, which add nothing and move with their points. A point array "Mass" [kg]
+   * gives the masses. `tetCells[k]` and `linkCells[j]` are the input cells of tet k and
+   * explicit link j. Returns an empty string on success, otherwise the message for the user.
+   */
+  static std::string ConvertParticles(vtkUnstructuredGrid* input,
+    const std::string& pinnedArrayName, softbody::PbdBody& body, std::vector<vtkIdType>& tetCells,
+    std::vector<vtkIdType>& linkCells);
+
   /// True when `name` selects no array (empty or the XML domain's "None" entry).
   static bool IsNoArray(const std::string& name);
 
 private:
+  static std::string CheckSize(vtkUnstructuredGrid* input);
   static std::string ConvertPoints(vtkUnstructuredGrid* input, softbody::TetMesh& mesh);
   static std::string ConvertTets(vtkUnstructuredGrid* input, softbody::TetMesh& mesh);
   static std::string ConvertPinned(
