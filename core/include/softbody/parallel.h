@@ -70,19 +70,25 @@ void parallelFor(std::size_t count, std::size_t /*grain*/, const Body& body)
 template <typename T, typename Map, typename Combine>
 T parallelReduce(std::size_t count, std::size_t /*grain*/, T identity, const Map& map, const Combine& combine)
 {
-  std::vector<T> partial(detail::chunkCount(count), identity);
+  // One whole object per chunk: a plain std::vector<bool> would pack the chunks' results into
+  // one word and make their writes race.
+  struct Slot
+  {
+    T value;
+  };
+  std::vector<Slot> partial(detail::chunkCount(count), Slot{ identity });
   detail::runChunks(count, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     T value = identity;
     for (std::size_t i = begin; i < end; ++i)
     {
       value = combine(value, map(i));
     }
-    partial[chunk] = value;
+    partial[chunk].value = value;
   });
   T result = identity;
-  for (const T& value : partial)
+  for (const Slot& slot : partial)
   {
-    result = combine(result, value);
+    result = combine(result, slot.value);
   }
   return result;
 }
