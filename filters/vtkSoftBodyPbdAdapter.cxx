@@ -99,19 +99,17 @@ void vtkSoftBodyPbdAdapter::AddBrokenCells(
   broken->SetName("Broken");
   broken->SetNumberOfValues(numCells);
   broken->FillValue(0);
-  const softbody::VolumeBatch& volumes = simulation.volumes();
-  for (std::size_t k = 0; k < this->TetCells.size() && k < volumes.broken.size(); ++k)
+  for (std::size_t k = 0; k < this->TetCells.size() && k < simulation.volumes().size(); ++k)
   {
-    if (volumes.broken[k])
+    if (simulation.tetBroken(k))
     {
       broken->SetValue(this->TetCells[k], 1);
     }
   }
-  const softbody::DistanceBatch& links = simulation.links();
   const std::size_t offset = simulation.explicitLinkOffset();
   for (std::size_t j = 0; j < this->LinkCells.size(); ++j)
   {
-    if (links.broken[offset + j])
+    if (simulation.linkBroken(offset + j))
     {
       broken->SetValue(this->LinkCells[j], 1);
     }

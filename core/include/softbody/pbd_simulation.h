@@ -132,10 +132,15 @@ public:
   void setRecordResidualsEveryStep(bool record) { RecordEveryStep = record; }
   const PbdConvergence& convergence() const { return Convergence; }
 
+  /// The batches as stored: in input order, except with the parallel solver, which stores them
+  /// color by color (use linkBroken / tetBroken to ask about an input link or tet).
   const DistanceBatch& links() const { return Links; }
   const VolumeBatch& volumes() const { return Volumes; }
-  /// Index of explicit link j in links(): tet edges come first.
+  /// Links in input order are the tet edges (topology order), then the explicit links: explicit
+  /// link j is link explicitLinkOffset() + j.
   std::size_t explicitLinkOffset() const { return ExplicitLinkOffset; }
+  bool linkBroken(std::size_t link) const;
+  bool tetBroken(std::size_t tet) const; ///< tet k in input order
   std::size_t brokenLinkCount() const;
   std::size_t colorCount() const; ///< colors of the link batch (parallel Gauss-Seidel)
 
@@ -151,6 +156,7 @@ private:
   void applyContactResponse(double h);
   void updateLinks(double h);
   void markBrokenTets();
+  void storeLinksAndVolumesByColor();
   void checkDivergence() const;
 
   PbdSettings Settings;
@@ -164,6 +170,7 @@ private:
   BatchSchedule LinkSchedule, VolumeSchedule, AttachmentSchedule;
   Csr TetEdges; ///< tet -> its 6 link indices, to mark tets of broken links
   std::size_t ExplicitLinkOffset = 0;
+  std::vector<std::int32_t> LinkSlot, VolumeSlot; ///< input index -> storage index (empty: same)
   DynamicState State;
   double Step = 0.0;
   std::vector<std::string> Warnings;
