@@ -268,30 +268,8 @@ void MassSpringSimulation::checkDivergence() const
 
 AdvanceStatus MassSpringSimulation::advance(double endTime, const ProgressCallback& progress)
 {
-  const double interval = endTime - State.time;
-  if (!(interval > 0.0))
-  {
-    return AdvanceStatus::Completed;
-  }
-  // Equal steps that land exactly on endTime.
-  const unsigned long long steps = equalStepCount(interval, Step);
-  const double h = interval / static_cast<double>(steps);
-  const double startTime = State.time;
-  for (unsigned long long s = 1; s <= steps; ++s)
-  {
-    stepOnce(h);
-    // Accumulating h would drift; the step index gives the time exactly.
-    State.time = (s == steps) ? endTime : startTime + static_cast<double>(s) * h;
-    if (s % kDivergenceCheckInterval == 0 || s == steps)
-    {
-      checkDivergence();
-      if (progress && !progress(double(s) / double(steps)))
-      {
-        return AdvanceStatus::Aborted;
-      }
-    }
-  }
-  return AdvanceStatus::Completed;
+  return advanceInEqualSteps(State, Step, endTime, progress, kDivergenceCheckInterval,
+    [&](double h, bool) { stepOnce(h); }, [&] { checkDivergence(); });
 }
 
 } // namespace softbody

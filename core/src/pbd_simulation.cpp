@@ -695,33 +695,17 @@ void PbdSimulation::checkDivergence() const
 
 AdvanceStatus PbdSimulation::advance(double endTime, const ProgressCallback& progress)
 {
-  const double interval = endTime - State.time;
-  if (!(interval > 0.0))
-  {
-    return AdvanceStatus::Completed;
-  }
-  const unsigned long long steps = equalStepCount(interval, Step);
-  const double h = interval / static_cast<double>(steps);
-  const double startTime = State.time;
   const bool recordAll = RecordEveryStep;
-  for (unsigned long long s = 1; s <= steps; ++s)
-  {
-    // The convergence of the last step is what a frame reports.
-    RecordEveryStep = recordAll || s == steps;
-    step(h);
-    State.time = (s == steps) ? endTime : startTime + static_cast<double>(s) * h;
-    if (s % kDivergenceCheckInterval == 0 || s == steps)
-    {
-      checkDivergence();
-      if (progress && !progress(double(s) / double(steps)))
-      {
-        RecordEveryStep = recordAll;
-        return AdvanceStatus::Aborted;
-      }
-    }
-  }
+  const AdvanceStatus status = advanceInEqualSteps(State, Step, endTime, progress,
+    kDivergenceCheckInterval,
+    [&](double h, bool last) {
+      // The convergence of the last step is what a frame reports.
+      RecordEveryStep = recordAll || last;
+      step(h);
+    },
+    [&] { checkDivergence(); });
   RecordEveryStep = recordAll;
-  return AdvanceStatus::Completed;
+  return status;
 }
 
 std::vector<double> PbdSimulation::tetVolumeRatios() const

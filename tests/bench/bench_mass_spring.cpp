@@ -9,6 +9,7 @@
 //
 // Usage: bench_mass_spring [--smoke] [--data <shared data dir>] [--csv <file>]
 #include "bench_meshes.h"
+#include "bench_options.h"
 #include "memory_bandwidth.h"
 
 #include "softbody/errors.h"
@@ -28,41 +29,6 @@ using namespace softbody;
 
 namespace
 {
-
-struct Options
-{
-  bool smoke = false;
-  std::string dataDir = "../shared/data";
-  std::string csvPath = "bench_mass_spring.csv";
-};
-
-Options parse(int argc, char** argv)
-{
-  Options options;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string arg = argv[i];
-    if (arg == "--smoke")
-    {
-      options.smoke = true;
-    }
-    else if (arg == "--data" && i + 1 < argc)
-    {
-      options.dataDir = argv[++i];
-    }
-    else if (arg == "--csv" && i + 1 < argc)
-    {
-      options.csvPath = argv[++i];
-    }
-    else
-    {
-      std::cerr << "usage: bench_mass_spring [--smoke] [--data DIR] [--csv FILE]\n";
-      std::exit(2);
-    }
-  }
-  return options;
-}
-
 /// Least bytes one Euler-Cromer step moves through memory with core's layout (doubles,
 /// int32 indices), counting each array once per pass that streams it:
 ///   spring pass   per edge: 2 indices, l0, k, k_d, the force written            56 B
@@ -75,17 +41,6 @@ double modelledBytesPerStep(std::size_t vertices, std::size_t edges, std::size_t
 {
   return 56.0 * double(edges) + 48.0 * double(tets) + 36.0 * 2.0 * double(edges) +
     28.0 * 4.0 * double(tets) + (32.0 + 176.0 + 96.0) * double(vertices);
-}
-
-std::uint64_t hashPositions(const std::vector<Vec3>& x)
-{
-  std::uint64_t hash = 1469598103934665603ull;
-  const auto* bytes = reinterpret_cast<const unsigned char*>(x.data());
-  for (std::size_t i = 0; i < x.size() * sizeof(Vec3); ++i)
-  {
-    hash = (hash ^ bytes[i]) * 1099511628211ull;
-  }
-  return hash;
 }
 
 struct Measurement
@@ -122,14 +77,14 @@ Measurement measure(const TetMesh& mesh, bool smoke, int& steps)
   const auto start = std::chrono::steady_clock::now();
   sim.advance(sim.time() + steps * h);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return { seconds / steps, hashPositions(sim.positions()) };
+  return { seconds / steps, bench::hashPositions(sim.positions()) };
 }
 
 } // namespace
 
 int main(int argc, char** argv)
 {
-  const Options options = parse(argc, argv);
+  const bench::Options options = bench::parseOptions(argc, argv, "bench_mass_spring", "bench_mass_spring.csv");
   const int maxThreads = tbb::info::default_concurrency();
   std::vector<int> threadCounts{ 1 };
   if (maxThreads > 1)
@@ -152,7 +107,7 @@ int main(int argc, char** argv)
     meshes.push_back(std::move(m));
   }
 
-  std::ofstream csv(options.csvPath);
+  std::ofstream csv(options.csv);
   csv << "mesh,vertices,edges,tets,threads,ms_per_step,tets_per_second,speedup,"
          "modelled_MB_per_step,bandwidth_GBps,time_over_bandwidth_bound,state_hash\n";
   std::printf("\n%-22s %8s %8s %3s %10s %12s %8s %10s %16s\n", "mesh", "tets", "verts", "thr",
@@ -199,6 +154,6 @@ int main(int argc, char** argv)
       }
     }
   }
-  std::printf("\nCSV written to %s\n", options.csvPath.c_str());
+  std::printf("\nCSV written to %s\n", options.csv.c_str());
   return 0;
 }

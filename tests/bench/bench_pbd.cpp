@@ -12,6 +12,7 @@
 //
 // Usage: bench_pbd [--smoke] [--data <shared data dir>] [--csv <prefix>]
 #include "bench_meshes.h"
+#include "bench_options.h"
 
 #include "softbody/cloth.h"
 #include "softbody/pbd_simulation.h"
@@ -29,51 +30,6 @@ using namespace softbody;
 
 namespace
 {
-struct Options
-{
-  bool smoke = false;
-  std::string dataDir = "../shared/data";
-  std::string csvPrefix = "bench_pbd";
-};
-
-Options parse(int argc, char** argv)
-{
-  Options options;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string arg = argv[i];
-    if (arg == "--smoke")
-    {
-      options.smoke = true;
-    }
-    else if (arg == "--data" && i + 1 < argc)
-    {
-      options.dataDir = argv[++i];
-    }
-    else if (arg == "--csv" && i + 1 < argc)
-    {
-      options.csvPrefix = argv[++i];
-    }
-    else
-    {
-      std::cerr << "usage: bench_pbd [--smoke] [--data DIR] [--csv PREFIX]\n";
-      std::exit(2);
-    }
-  }
-  return options;
-}
-
-std::uint64_t hashPositions(const std::vector<Vec3>& x)
-{
-  std::uint64_t hash = 1469598103934665603ull;
-  const auto* bytes = reinterpret_cast<const unsigned char*>(x.data());
-  for (std::size_t i = 0; i < x.size() * sizeof(Vec3); ++i)
-  {
-    hash = (hash ^ bytes[i]) * 1099511628211ull;
-  }
-  return hash;
-}
-
 double stageSeconds(const PbdSimulation& sim, const std::string& prefix)
 {
   for (const StageTiming& t : sim.stageTimings())
@@ -94,9 +50,9 @@ struct SolverCase
   int threads;
 };
 
-void convergence(const Options& options, int maxThreads)
+void convergence(const bench::Options& options, int maxThreads)
 {
-  std::ofstream csv(options.csvPrefix + "_convergence.csv");
+  std::ofstream csv(options.csv + "_convergence.csv");
   csv << "cloth,solver,threads,iteration,residual,seconds\n";
   std::vector<SolverCase> cases = { { "Gauss-Seidel", PbdSolver::GaussSeidel, 1.0, 1 },
     { "SOR 1.2", PbdSolver::GaussSeidel, 1.2, 1 }, { "SOR 1.5", PbdSolver::GaussSeidel, 1.5, 1 },
@@ -144,9 +100,9 @@ void convergence(const Options& options, int maxThreads)
   }
 }
 
-void throughput(const Options& options, int maxThreads)
+void throughput(const bench::Options& options, int maxThreads)
 {
-  std::ofstream csv(options.csvPrefix + "_throughput.csv");
+  std::ofstream csv(options.csv + "_throughput.csv");
   csv << "mesh,tets,links,solver,threads,ms_per_iteration,projections_per_second_per_thread,speedup,state_hash\n";
   std::vector<bench::NamedMesh> meshes = bench::generatedMeshes(options.smoke);
   for (auto& m : bench::sharedMeshes(options.dataDir))
@@ -194,7 +150,7 @@ void throughput(const Options& options, int maxThreads)
         const double seconds = stageSeconds(*sim, ": links");
         const double iterations = double(steps) * settings.iterations;
         const double projections = double(sim->links().size() + sim->volumes().size()) * iterations;
-        const std::uint64_t hash = hashPositions(sim->positions());
+        const std::uint64_t hash = bench::hashPositions(sim->positions());
         if (threads == 1)
         {
           oneThread = seconds;
@@ -222,10 +178,10 @@ void throughput(const Options& options, int maxThreads)
 
 int main(int argc, char** argv)
 {
-  const Options options = parse(argc, argv);
+  const bench::Options options = bench::parseOptions(argc, argv, "bench_pbd", "bench_pbd");
   const int maxThreads = tbb::info::default_concurrency();
   convergence(options, maxThreads);
   throughput(options, maxThreads);
-  std::printf("\nCSV: %s_convergence.csv, %s_throughput.csv\n", options.csvPrefix.c_str(), options.csvPrefix.c_str());
+  std::printf("\nCSV: %s_convergence.csv, %s_throughput.csv\n", options.csv.c_str(), options.csv.c_str());
   return 0;
 }

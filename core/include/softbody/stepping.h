@@ -2,6 +2,9 @@
 // that adds a scope's wall time to a stage's total.
 #pragma once
 
+#include "softbody/integrators.h" // DynamicState
+#include "softbody/simulation.h"  // AdvanceStatus, ProgressCallback
+
 #include <chrono>
 #include <cmath>
 
@@ -14,6 +17,39 @@ inline unsigned long long equalStepCount(double interval, double maxStep)
 {
   const double steps = std::ceil(interval / maxStep * (1.0 - 1e-9));
   return steps < 1.0 ? 1ULL : static_cast<unsigned long long>(steps);
+}
+
+/// The advance() loop every CPU stepper shares: equal steps no larger than maxStep that land
+/// exactly on endTime, the time taken from the step index (accumulating h would drift), and
+/// every `checkInterval` steps and after the last one a divergence check and the progress
+/// callback (which may abort). `stepOnce(h, isLast)` advances the state by h.
+template <typename StepOnce, typename CheckDivergence>
+AdvanceStatus advanceInEqualSteps(DynamicState& state, double maxStep, double endTime,
+  const ProgressCallback& progress, unsigned long long checkInterval, const StepOnce& stepOnce,
+  const CheckDivergence& checkDivergence)
+{
+  const double interval = endTime - state.time;
+  if (!(interval > 0.0))
+  {
+    return AdvanceStatus::Completed;
+  }
+  const unsigned long long steps = equalStepCount(interval, maxStep);
+  const double h = interval / static_cast<double>(steps);
+  const double startTime = state.time;
+  for (unsigned long long s = 1; s <= steps; ++s)
+  {
+    stepOnce(h, s == steps);
+    state.time = (s == steps) ? endTime : startTime + static_cast<double>(s) * h;
+    if (s % checkInterval == 0 || s == steps)
+    {
+      checkDivergence();
+      if (progress && !progress(double(s) / double(steps)))
+      {
+        return AdvanceStatus::Aborted;
+      }
+    }
+  }
+  return AdvanceStatus::Completed;
 }
 
 class ScopedStageTimer
