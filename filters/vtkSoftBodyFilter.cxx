@@ -610,8 +610,13 @@ void vtkSoftBodyFilter::FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid
   output->GetPointData()->AddArray(MakeVectorArray("Velocity", simulation.velocities()));
   output->GetPointData()->AddArray(MakeVectorArray("Displacement", displacement));
 
-  // Core keeps the tets in input cell order, so the ratios map onto the input cells.
-  const std::vector<double> ratios = simulation.tetVolumeRatios();
+  // Core keeps the tets in input cell order, so the ratios map onto the input cells; a PBD
+  // input that mixes tets with other cells maps them through the adapter (NaN for non-tets).
+  std::vector<double> ratios = simulation.tetVolumeRatios();
+  if (this->Internals->Pbd && !ratios.empty())
+  {
+    ratios = this->Internals->PbdAdapter.PerInputCell(ratios, input->GetNumberOfCells());
+  }
   if (static_cast<vtkIdType>(ratios.size()) == input->GetNumberOfCells())
   {
     output->GetCellData()->AddArray(MakeScalarArray("VolumeRatio", ratios));

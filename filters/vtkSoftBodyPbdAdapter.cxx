@@ -12,6 +12,8 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <cmath>
+
 namespace
 {
 softbody::Vec3 ToVec3(const double v[3])
@@ -131,6 +133,18 @@ void vtkSoftBodyPbdAdapter::AddBrokenCells(
     ghosts->SetValue(c, broken->GetValue(c) ? static_cast<unsigned char>(given | vtkDataSetAttributes::HIDDENCELL) : given);
   }
   output->GetCellData()->AddArray(ghosts);
+}
+
+//------------------------------------------------------------------------------
+std::vector<double> vtkSoftBodyPbdAdapter::PerInputCell(
+  const std::vector<double>& perTet, vtkIdType numCells) const
+{
+  std::vector<double> perCell(static_cast<std::size_t>(numCells), std::nan(""));
+  for (std::size_t k = 0; k < this->TetCells.size() && k < perTet.size(); ++k)
+  {
+    perCell[static_cast<std::size_t>(this->TetCells[k])] = perTet[k];
+  }
+  return perCell;
 }
 
 //------------------------------------------------------------------------------

@@ -32,6 +32,10 @@ public:
   /// broken, vtkGhostType with HIDDENCELL on those cells so renderings show the fragments apart.
   void AddBrokenCells(const softbody::PbdSimulation& simulation, vtkUnstructuredGrid* output) const;
 
+  /// Spreads per-tet values (core's tet order) over the input cells; NaN for cells that are not
+  /// tets.
+  std::vector<double> PerInputCell(const std::vector<double>& perTet, vtkIdType numCells) const;
+
   /// Field data "Iterations" and "Residual" of the last step.
   static void AddConvergenceFields(const softbody::PbdSimulation& simulation, vtkUnstructuredGrid* output);
 

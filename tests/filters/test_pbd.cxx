@@ -8,6 +8,7 @@
 #include "vtkDataSetAttributes.h"
 #include "vtkHexahedron.h"
 #include "vtkIntArray.h"
+#include "vtkMath.h"
 #include "vtkSoftBodyCloth.h"
 #include "vtkTable.h"
 #include "vtkUnsignedCharArray.h"
@@ -145,6 +146,31 @@ int main()
         sbtest::TetVolume(atRest[0], atRest[1], atRest[2], atRest[3]);
       SB_CHECK(std::abs(ratio->GetTuple1(c) - expected) < 1e-9, "VolumeRatio of cell " << c);
     }
+  }
+
+  // --- Tets and line cells in one input: the line is a link, VolumeRatio maps onto the tets.
+  {
+    auto mixed = sbtest::MakeTetBox(2, 2, 2, 0.1, { 0.0, 0.0, 0.0 });
+    const vtkIdType tets = mixed->GetNumberOfCells();
+    const vtkIdType line[2] = { 0, mixed->GetNumberOfPoints() - 1 }; // a long diagonal brace
+    mixed->InsertNextCell(VTK_LINE, 2, line);
+    sbtest::CapturedFilter f(mixed);
+    f.Filter->SetMethod(vtkSoftBodyFilter::XPBD);
+    f.Filter->SetEndTime(0.2);
+    f.Filter->SetFrameInterval(0.1);
+    SB_CHECK(f.Update(0.2), f.Messages->AllErrors());
+    vtkDataArray* ratio = f.Mesh()->GetCellData()->GetArray("VolumeRatio");
+    SB_CHECK(ratio && ratio->GetNumberOfTuples() == tets + 1, "VolumeRatio per input cell");
+    if (ratio && ratio->GetNumberOfTuples() == tets + 1)
+    {
+      SB_CHECK(std::isnan(ratio->GetTuple1(tets)), "the line cell has no volume ratio");
+      SB_CHECK(std::abs(ratio->GetTuple1(0) - 1.0) < 0.05, "tet 0 keeps its volume");
+    }
+    double a[3], b[3];
+    f.Mesh()->GetPoint(line[0], a);
+    f.Mesh()->GetPoint(line[1], b);
+    const double length = std::sqrt(vtkMath::Distance2BetweenPoints(a, b));
+    SB_CHECK(std::abs(length - std::sqrt(3 * 0.04)) < 1e-3, "the brace keeps its length (" << length << ")");
   }
 
   // --- Inputs PBD refuses, with a message that says why.
