@@ -3,6 +3,7 @@
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyInputConversion.h"
 #include "vtkSoftBodyPbdAdapter.h"
+#include "vtkSoftBodySkin.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -121,6 +122,8 @@ public:
   /// Set when the simulation is PBD/XPBD (it is then also `Simulation`).
   softbody::PbdSimulation* Pbd = nullptr;
   vtkSoftBodyPbdAdapter PbdAdapter;
+  /// The optional render surface's binding to the body (kept while both are unchanged).
+  vtkSoftBodySkin Skin;
   vtkSoftBodyFrameCache Cache;
   /// Grid frame the simulation's state is exactly at; -1 when between frames or unknown.
   int SimulationFrame = -1;
@@ -147,8 +150,8 @@ public:
 vtkSoftBodyFilter::vtkSoftBodyFilter()
   : Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(1);
-  this->SetNumberOfOutputPorts(3);
+  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfOutputPorts(4);
   // One source of truth for the raw-mode defaults: core's RawConstants.
   const softbody::RawConstants raw;
   this->DistanceStiffness = raw.distanceStiffness;
@@ -170,9 +173,12 @@ int vtkSoftBodyFilter::GetNumberOfCachedFrames() const
 //------------------------------------------------------------------------------
 int vtkSoftBodyFilter::FillInputPortInformation(int port, vtkInformation* info)
 {
-  if (port != 0)
+  if (port == 1)
   {
-    return 0;
+    // The render surface to skin onto the body: optional.
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+    return 1;
   }
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkUnstructuredGrid");
   return 1;
@@ -181,8 +187,8 @@ int vtkSoftBodyFilter::FillInputPortInformation(int port, vtkInformation* info)
 //------------------------------------------------------------------------------
 int vtkSoftBodyFilter::FillOutputPortInformation(int port, vtkInformation* info)
 {
-  const char* types[] = { "vtkUnstructuredGrid", "vtkPolyData", "vtkTable" };
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), types[std::min(port, 2)]);
+  const char* types[] = { "vtkUnstructuredGrid", "vtkPolyData", "vtkTable", "vtkPolyData" };
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), types[std::min(port, 3)]);
   return 1;
 }
 
@@ -284,10 +290,13 @@ int vtkSoftBodyFilter::RequestUpdateExtent(
 {
   // The requested time is ours, not the input's: the input is the body at rest. Forwarding the
   // time would make a temporal input re-execute on every frame and so invalidate the cache.
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  if (inInfo)
+  for (int port = 0; port < 2; ++port)
   {
-    inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    vtkInformation* inInfo = inputVector[port]->GetInformationObject(0);
+    if (inInfo)
+    {
+      inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    }
   }
   return 1;
 }
@@ -301,7 +310,9 @@ int vtkSoftBodyFilter::RequestData(
   vtkUnstructuredGrid* mesh = vtkUnstructuredGrid::GetData(outputVector, 0);
   vtkPolyData* particles = vtkPolyData::GetData(outputVector, 1);
   vtkTable* convergence = vtkTable::GetData(outputVector, 2);
-  if (!input || !mesh || !particles || !convergence)
+  vtkPolyData* skinned = vtkPolyData::GetData(outputVector, 3);
+  vtkPolyData* surface = vtkPolyData::GetData(inputVector[1], 0); // optional
+  if (!input || !mesh || !particles || !convergence || !skinned)
   {
     vtkErrorMacro("Missing input or output data object.");
     return 0;
@@ -387,6 +398,16 @@ int vtkSoftBodyFilter::RequestData(
   this->FillMesh(input, mesh);
   this->FillParticles(mesh, particles);
   this->FillConvergence(convergence);
+  if (surface)
+  {
+    const std::string skinError = this->Internals->Skin.Bind(input, surface);
+    if (!skinError.empty())
+    {
+      vtkErrorMacro(<< "Cannot skin the Surface input onto the body: " << skinError);
+      return 0;
+    }
+    this->Internals->Skin.Fill(surface, this->Internals->Simulation->positions(), skinned);
+  }
   stampTime();
   return 1;
 }

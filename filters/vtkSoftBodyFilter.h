@@ -17,7 +17,10 @@
  * - port 1 ("Particles"): a vtkPolyData with one vertex per point and point arrays "Velocity" and
  *   "InverseMass";
  * - port 2 ("Convergence"): a vtkTable of the residual after each iteration of the frame's last
- *   (sub)step (PBD and XPBD; empty for mass-spring).
+ *   (sub)step (PBD and XPBD; empty for mass-spring);
+ * - port 3 ("Surface"): when a surface is connected to input port 1 (optional), that surface
+ *   (same cells and arrays) moving with the body, normals recomputed: bound once to a Soft Body
+ *   Voxelize lattice with trilinear weights or to a tet body with barycentric ones.
  *
  * The physics lives in core (softbody::MassSpringSimulation, softbody::PbdSimulation; no VTK). This class only
  * translates: properties to core settings, the input to a core body, time requests to
@@ -83,6 +86,11 @@ public:
     REORIENT = 0,
     REFUSE = 1
   };
+
+  /**
+   * The optional render surface (input port 1) skinned onto the body (output port 3).
+   */
+  void SetSurfaceConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
 
   ///@{
   /**

@@ -1,10 +1,10 @@
 #include "vtkTetrahedralizeSurface.h"
+#include "vtkSoftBodySurfaceInput.h"
 
 #include "vtkSoftBodyTetMeshOutput.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
-#include "vtkCleanPolyData.h"
 #include "vtkInformation.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -58,44 +58,12 @@ int vtkTetrahedralizeSurface::RequestData(
   }
   this->UpdateProgress(0.0);
 
-  // Triangulate polygons and strips; vertices and lines bound nothing and are dropped.
-  vtkNew<vtkPolyData> surface;
-  surface->ShallowCopy(input);
-  vtkNew<vtkTriangleFilter> triangulate;
-  triangulate->SetInputData(surface);
-  triangulate->PassVertsOff();
-  triangulate->PassLinesOff();
-  // Merge exactly coincident points: OBJ and many STL files store each triangle with its own
-  // copies of its corners, which would make every edge a boundary edge. A surface without
-  // duplicates is unchanged; triangles that collapse become lines and are skipped below.
-  vtkNew<vtkCleanPolyData> merge;
-  merge->SetInputConnection(triangulate->GetOutputPort());
-  merge->ToleranceIsAbsoluteOn();
-  merge->SetAbsoluteTolerance(0.0);
-  merge->Update();
-  vtkPolyData* triangles = merge->GetOutput();
+  // Triangulate polygons and strips and merge coincident points (OBJ triangle soups).
+  vtkSmartPointer<vtkPolyData> triangles = vtkSoftBodySurfaceInput::CleanTriangles(input);
   this->UpdateProgress(0.05);
-
-  // Convert once to core's arrays.
-  std::vector<softbody::Vec3> points(static_cast<std::size_t>(triangles->GetNumberOfPoints()));
-  for (vtkIdType i = 0; i < triangles->GetNumberOfPoints(); ++i)
-  {
-    triangles->GetPoint(i, points[static_cast<std::size_t>(i)].data());
-  }
+  std::vector<softbody::Vec3> points;
   std::vector<std::array<std::int32_t, 3>> faces;
-  faces.reserve(static_cast<std::size_t>(triangles->GetNumberOfPolys()));
-  auto iter = vtk::TakeSmartPointer(triangles->GetPolys()->NewIterator());
-  for (iter->GoToFirstCell(); !iter->IsDoneWithTraversal(); iter->GoToNextCell())
-  {
-    vtkIdType n = 0;
-    const vtkIdType* ids = nullptr;
-    iter->GetCurrentCell(n, ids);
-    if (n == 3)
-    {
-      faces.push_back({ static_cast<std::int32_t>(ids[0]), static_cast<std::int32_t>(ids[1]),
-        static_cast<std::int32_t>(ids[2]) });
-    }
-  }
+  vtkSoftBodySurfaceInput::ToCore(triangles, points, faces);
 
   softbody::TetrahedralizeOptions options;
   options.maxRadiusEdgeRatio = this->MaxRadiusEdgeRatio;

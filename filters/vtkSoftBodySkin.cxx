@@ -1,0 +1,218 @@
+#include "vtkSoftBodySkin.h"
+
+#include "vtkCellData.h"
+#include "vtkCellType.h"
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkGenericCell.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataNormals.h"
+#include "vtkStaticCellLocator.h"
+#include "vtkUnstructuredGrid.h"
+
+#include "softbody/errors.h"
+
+#include <cmath>
+#include <sstream>
+
+//------------------------------------------------------------------------------
+void vtkSoftBodySkin::Clear()
+{
+  this->Skin = softbody::Skin();
+  this->Body = this->Surface = nullptr;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodySkin::Bind(vtkUnstructuredGrid* body, vtkPolyData* surface)
+{
+  if (this->Body == body && this->Surface == surface && this->BodyTime == body->GetMTime() &&
+    this->SurfaceTime == surface->GetMTime() && this->Skin.vertexCount() > 0)
+  {
+    return {};
+  }
+  this->Clear();
+  if (surface->GetNumberOfPoints() == 0)
+  {
+    return "the Surface input has no points.";
+  }
+  std::vector<softbody::Vec3> vertices(static_cast<std::size_t>(surface->GetNumberOfPoints()));
+  for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
+  {
+    surface->GetPoint(i, vertices[static_cast<std::size_t>(i)].data());
+  }
+  std::string error;
+  try
+  {
+    error = body->GetPointData()->GetArray("LatticeIndex") ? this->BindToLattice(body, vertices)
+                                                          : this->BindToTets(body, vertices);
+  }
+  catch (const softbody::InvalidInputError& e)
+  {
+    error = e.what();
+  }
+  if (error.empty())
+  {
+    this->Body = body;
+    this->Surface = surface;
+    this->BodyTime = body->GetMTime();
+    this->SurfaceTime = surface->GetMTime();
+  }
+  else
+  {
+    this->Skin = softbody::Skin();
+  }
+  return error;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodySkin::BindToLattice(vtkUnstructuredGrid* body, const std::vector<softbody::Vec3>& vertices)
+{
+  vtkDataArray* index = body->GetPointData()->GetArray("LatticeIndex");
+  vtkFieldData* field = body->GetFieldData();
+  vtkDataArray* origin = field->GetArray("LatticeOrigin");
+  vtkDataArray* spacing = field->GetArray("LatticeSpacing");
+  vtkDataArray* dimensions = field->GetArray("LatticeDimensions");
+  if (index->GetNumberOfComponents() != 3 || !origin || origin->GetNumberOfComponents() != 3 ||
+    !spacing || !dimensions || dimensions->GetNumberOfComponents() != 3)
+  {
+    return "the body has a LatticeIndex array but not the lattice field data of Soft Body "
+           "Voxelize (LatticeOrigin, LatticeSpacing, LatticeDimensions).";
+  }
+  softbody::Lattice lattice;
+  softbody::LatticeGrid& grid = lattice.grid;
+  origin->GetTuple(0, grid.origin.data());
+  grid.spacing = spacing->GetTuple1(0);
+  for (int a = 0; a < 3; ++a)
+  {
+    grid.nodes[static_cast<std::size_t>(a)] = static_cast<int>(dimensions->GetComponent(0, a));
+  }
+  if (!(grid.spacing > 0.0) || grid.nodes[0] < 1 || grid.nodes[1] < 1 || grid.nodes[2] < 1)
+  {
+    return "the body's lattice field data is invalid.";
+  }
+  lattice.particleOfNode.assign(grid.nodeCount(), -1);
+  lattice.points.resize(static_cast<std::size_t>(body->GetNumberOfPoints()));
+  for (vtkIdType p = 0; p < body->GetNumberOfPoints(); ++p)
+  {
+    int ijk[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      ijk[a] = static_cast<int>(index->GetComponent(p, a));
+      if (ijk[a] < 0 || ijk[a] >= grid.nodes[static_cast<std::size_t>(a)])
+      {
+        return "LatticeIndex of point " + std::to_string(p) + " lies outside the lattice.";
+      }
+    }
+    softbody::Vec3& x = lattice.points[static_cast<std::size_t>(p)];
+    body->GetPoint(p, x.data());
+    // The trilinear binding assumes the particles sit on the lattice nodes.
+    if ((x - grid.position(ijk[0], ijk[1], ijk[2])).norm() > 1e-6 * grid.spacing)
+    {
+      return "the lattice's points no longer sit on its nodes (was it transformed after Soft "
+             "Body Voxelize?): transform the surface before voxelizing instead.";
+    }
+    lattice.particleOfNode[grid.nodeIndex(ijk[0], ijk[1], ijk[2])] = static_cast<std::int32_t>(p);
+  }
+  this->Skin = softbody::bindToLattice(lattice, vertices);
+  return {};
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodySkin::BindToTets(vtkUnstructuredGrid* body, const std::vector<softbody::Vec3>& vertices)
+{
+  // A grid of the body's tets only, for the locator (other cells cannot carry a surface).
+  vtkNew<vtkUnstructuredGrid> tetGrid;
+  tetGrid->SetPoints(body->GetPoints());
+  std::vector<softbody::Tet> tets;
+  for (vtkIdType c = 0; c < body->GetNumberOfCells(); ++c)
+  {
+    if (body->GetCellType(c) != VTK_TETRA)
+    {
+      continue;
+    }
+    vtkIdType npts = 0;
+    const vtkIdType* ids = nullptr;
+    body->GetCellPoints(c, npts, ids);
+    tetGrid->InsertNextCell(VTK_TETRA, npts, ids);
+    tets.push_back({ static_cast<std::int32_t>(ids[0]), static_cast<std::int32_t>(ids[1]),
+      static_cast<std::int32_t>(ids[2]), static_cast<std::int32_t>(ids[3]) });
+  }
+  if (tets.empty())
+  {
+    return "skinning a Surface needs a body of tetrahedra or a Soft Body Voxelize lattice; this "
+           "body has neither.";
+  }
+  vtkNew<vtkStaticCellLocator> locator;
+  locator->SetDataSet(tetGrid);
+  locator->BuildLocator();
+  vtkNew<vtkGenericCell> cell;
+  std::vector<std::int32_t> tetOfVertex(vertices.size(), -1);
+  for (std::size_t v = 0; v < vertices.size(); ++v)
+  {
+    double x[3] = { vertices[v].x(), vertices[v].y(), vertices[v].z() };
+    double pcoords[3], weights[4];
+    vtkIdType found = locator->FindCell(x, 0.0, cell, pcoords, weights);
+    if (found < 0)
+    {
+      double closest[3], dist2 = 0.0;
+      int subId = 0;
+      locator->FindClosestPoint(x, closest, cell, found, subId, dist2);
+    }
+    if (found < 0)
+    {
+      return "a surface vertex could not be placed in or near any tetrahedron.";
+    }
+    tetOfVertex[v] = static_cast<std::int32_t>(found);
+  }
+  std::vector<softbody::Vec3> points(static_cast<std::size_t>(body->GetNumberOfPoints()));
+  for (vtkIdType p = 0; p < body->GetNumberOfPoints(); ++p)
+  {
+    body->GetPoint(p, points[static_cast<std::size_t>(p)].data());
+  }
+  this->Skin = softbody::bindToTets(points, tets, vertices, tetOfVertex);
+  return {};
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftBodySkin::Fill(
+  vtkPolyData* surface, const std::vector<softbody::Vec3>& particles, vtkPolyData* output) const
+{
+  std::vector<softbody::Vec3> moved;
+  softbody::applySkin(this->Skin, particles, moved);
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(moved.size()));
+  for (std::size_t v = 0; v < moved.size(); ++v)
+  {
+    points->SetPoint(static_cast<vtkIdType>(v), moved[v].data());
+  }
+  output->CopyStructure(surface);
+  output->SetPoints(points);
+  output->GetPointData()->PassData(surface->GetPointData());
+  output->GetCellData()->PassData(surface->GetCellData());
+  output->GetFieldData()->PassData(surface->GetFieldData());
+
+  // Normals of the moved surface, computed on a copy so the output keeps every cell and point
+  // as given (splitting off: one normal per input point).
+  vtkNew<vtkPolyData> shape;
+  shape->SetPoints(points);
+  shape->SetPolys(surface->GetPolys());
+  shape->SetStrips(surface->GetStrips());
+  vtkNew<vtkPolyDataNormals> normals;
+  normals->SetInputData(shape);
+  normals->SplittingOff();
+  normals->ConsistencyOff();
+  normals->AutoOrientNormalsOff();
+  normals->ComputePointNormalsOn();
+  normals->ComputeCellNormalsOff();
+  normals->Update();
+  vtkDataArray* computed = normals->GetOutput()->GetPointData()->GetNormals();
+  if (computed && computed->GetNumberOfTuples() == output->GetNumberOfPoints())
+  {
+    output->GetPointData()->SetNormals(computed);
+  }
+}

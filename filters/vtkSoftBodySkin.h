@@ -1,0 +1,49 @@
+/**
+ * @class   vtkSoftBodySkin
+ * @brief   The Soft Body filter's optional render surface: bound once to the body at rest, then
+ *          moved with it every frame.
+ *
+ * A Soft Body Voxelize lattice (recognized by its LatticeIndex point array and Lattice* field
+ * data) binds each surface vertex to the 8 particles of its lattice cell with trilinear
+ * weights; a tet body binds it to the 4 corners of its enclosing tet (found with VTK's
+ * vtkStaticCellLocator; the nearest tet for vertices outside) with barycentric weights. Both
+ * are exact for rigid and affine motions (softbody::bindToLattice, softbody::bindToTets).
+ */
+#ifndef vtkSoftBodySkin_h
+#define vtkSoftBodySkin_h
+
+#include "softbody/skinning.h"
+
+#include "vtkType.h"
+
+#include <string>
+
+class vtkPolyData;
+class vtkUnstructuredGrid;
+
+class vtkSoftBodySkin
+{
+public:
+  /// (Re)binds unless already bound to these objects at these modification times. Returns an
+  /// empty string on success, otherwise the message for the user.
+  std::string Bind(vtkUnstructuredGrid* body, vtkPolyData* surface);
+  void Clear();
+
+  /// `output` = `surface` (same cells and arrays) with its points moved onto the body's
+  /// current particle positions and its point normals recomputed.
+  void Fill(vtkPolyData* surface, const std::vector<softbody::Vec3>& particles, vtkPolyData* output) const;
+
+  std::size_t GetOutsideCount() const { return this->Skin.outsideCount; }
+
+private:
+  std::string BindToLattice(vtkUnstructuredGrid* body, const std::vector<softbody::Vec3>& vertices);
+  std::string BindToTets(vtkUnstructuredGrid* body, const std::vector<softbody::Vec3>& vertices);
+
+  softbody::Skin Skin;
+  const void* Body = nullptr; // identities only, never dereferenced
+  const void* Surface = nullptr;
+  vtkMTimeType BodyTime = 0;
+  vtkMTimeType SurfaceTime = 0;
+};
+
+#endif

@@ -1,0 +1,221 @@
+#include "vtkSoftBodyVoxelize.h"
+
+#include "vtkSoftBodySurfaceInput.h"
+
+#include "vtkCellData.h"
+#include "vtkCellType.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkImplicitPolyDataDistance.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include "softbody/errors.h"
+#include "softbody/lattice.h"
+#include "softbody/tetrahedralize.h" // checkClosedManifold
+
+#include <cmath>
+#include <sstream>
+
+vtkStandardNewMacro(vtkSoftBodyVoxelize);
+
+namespace
+{
+constexpr double kMaxNodes = 2.0e8; // ~1.6 GB of flags and maps: refuse beyond, with the reason
+}
+
+//------------------------------------------------------------------------------
+int vtkSoftBodyVoxelize::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkSoftBodyVoxelize::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
+  if (!input || !output)
+  {
+    vtkErrorMacro("Missing input or output data object.");
+    return 0;
+  }
+  if (input->GetNumberOfPoints() == 0 || input->GetNumberOfPolys() + input->GetNumberOfStrips() == 0)
+  {
+    vtkErrorMacro("The input has no polygons: Soft Body Voxelize needs a closed surface.");
+    return 0;
+  }
+  if (!(this->Density > 0.0) || !std::isfinite(this->Density))
+  {
+    vtkErrorMacro("Density must be > 0 kg/m^3 (got " << this->Density << ").");
+    return 0;
+  }
+
+  // The inside test is only meaningful for a closed, consistently oriented surface.
+  vtkSmartPointer<vtkPolyData> triangles = vtkSoftBodySurfaceInput::CleanTriangles(input);
+  std::vector<softbody::Vec3> points;
+  std::vector<std::array<std::int32_t, 3>> faces;
+  vtkSoftBodySurfaceInput::ToCore(triangles, points, faces);
+  const softbody::SurfaceCheck check = softbody::checkClosedManifold(points, faces);
+  if (!check.ok())
+  {
+    vtkErrorMacro("The surface does not enclose a volume: "
+      << check.boundaryEdges << " boundary edges (holes), " << check.nonManifoldEdges
+      << " non-manifold edges, " << check.inconsistentEdges << " inconsistently oriented edges, "
+      << check.degenerateTriangles << " degenerate triangles, " << check.nonFinitePoints
+      << " non-finite points. Close or clean it first (e.g. Fill Holes, Clean).");
+    return 0;
+  }
+
+  double bounds[6];
+  triangles->GetBounds(bounds);
+  const double extent[3] = { bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4] };
+  const double longest = std::max({ extent[0], extent[1], extent[2] });
+  const double h = this->Spacing > 0.0 ? this->Spacing : longest / this->Resolution;
+  if (!(h > 0.0) || !std::isfinite(h))
+  {
+    vtkErrorMacro("The surface is flat or the spacing invalid (h = " << h << ").");
+    return 0;
+  }
+  // Nodes cover the bounding box, centered on it so the lattice sits symmetrically inside.
+  softbody::LatticeGrid grid;
+  grid.spacing = h;
+  double nodes = 1.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    const int n = static_cast<int>(std::floor(extent[a] / h)) + 1;
+    grid.nodes[static_cast<std::size_t>(a)] = n;
+    grid.origin[a] = bounds[2 * a] + 0.5 * (extent[a] - (n - 1) * h);
+    nodes *= n;
+  }
+  if (nodes > kMaxNodes)
+  {
+    vtkErrorMacro("Spacing " << h << " m gives " << nodes << " lattice nodes (more than "
+                             << kMaxNodes << "): choose a larger spacing.");
+    return 0;
+  }
+
+  // Signed distance from VTK: negative inside. One slice at a time, for progress and abort.
+  vtkNew<vtkImplicitPolyDataDistance> distance;
+  distance->SetInput(triangles);
+  std::vector<char> inside(grid.nodeCount(), 0);
+  for (int k = 0; k < grid.nodes[2]; ++k)
+  {
+    this->UpdateProgress(0.9 * k / grid.nodes[2]);
+    if (this->CheckAbort())
+    {
+      return 1;
+    }
+    for (int j = 0; j < grid.nodes[1]; ++j)
+    {
+      for (int i = 0; i < grid.nodes[0]; ++i)
+      {
+        const softbody::Vec3 p = grid.position(i, j, k);
+        double x[3] = { p.x(), p.y(), p.z() };
+        inside[grid.nodeIndex(i, j, k)] = distance->EvaluateFunction(x) < 0.0 ? 1 : 0;
+      }
+    }
+  }
+
+  softbody::Lattice lattice;
+  try
+  {
+    lattice = softbody::buildLattice(grid, inside);
+  }
+  catch (const softbody::InvalidInputError& e)
+  {
+    vtkErrorMacro(<< e.what());
+    return 0;
+  }
+  if (lattice.points.empty())
+  {
+    vtkErrorMacro("No lattice node lies inside the surface: choose a smaller Spacing (now "
+      << h << " m) or a larger Resolution.");
+    return 0;
+  }
+
+  auto outPoints = vtkSmartPointer<vtkPoints>::New();
+  outPoints->SetDataTypeToDouble();
+  outPoints->SetNumberOfPoints(static_cast<vtkIdType>(lattice.points.size()));
+  auto mass = vtkSmartPointer<vtkDoubleArray>::New();
+  mass->SetName("Mass");
+  mass->SetNumberOfValues(static_cast<vtkIdType>(lattice.points.size()));
+  auto index = vtkSmartPointer<vtkIntArray>::New();
+  index->SetName("LatticeIndex");
+  index->SetNumberOfComponents(3);
+  index->SetNumberOfTuples(static_cast<vtkIdType>(lattice.points.size()));
+  for (std::size_t p = 0; p < lattice.points.size(); ++p)
+  {
+    const auto id = static_cast<vtkIdType>(p);
+    outPoints->SetPoint(id, lattice.points[p].data());
+    mass->SetValue(id, this->Density * h * h * h);
+    for (int a = 0; a < 3; ++a)
+    {
+      index->SetTypedComponent(id, a, lattice.nodeOfParticle[p][static_cast<std::size_t>(a)]);
+    }
+  }
+  output->SetPoints(outPoints);
+  output->GetPointData()->AddArray(mass);
+  output->GetPointData()->AddArray(index);
+
+  output->AllocateExact(static_cast<vtkIdType>(lattice.links.size()), 2 * static_cast<vtkIdType>(lattice.links.size()));
+  auto scale = vtkSmartPointer<vtkDoubleArray>::New();
+  scale->SetName("LinkStiffnessScale");
+  auto kind = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  kind->SetName("LinkKind");
+  for (std::size_t l = 0; l < lattice.links.size(); ++l)
+  {
+    if (lattice.linkKinds[l] != softbody::LatticeLinkKind::Axis && this->DiagonalStiffness == 0.0)
+    {
+      continue;
+    }
+    const vtkIdType ends[2] = { lattice.links[l][0], lattice.links[l][1] };
+    output->InsertNextCell(VTK_LINE, 2, ends);
+    scale->InsertNextValue(lattice.linkKinds[l] == softbody::LatticeLinkKind::Axis ? 1.0 : this->DiagonalStiffness);
+    kind->InsertNextValue(static_cast<unsigned char>(lattice.linkKinds[l]));
+  }
+  output->GetCellData()->AddArray(scale);
+  output->GetCellData()->AddArray(kind);
+
+  auto origin = vtkSmartPointer<vtkDoubleArray>::New();
+  origin->SetName("LatticeOrigin");
+  origin->SetNumberOfComponents(3);
+  origin->InsertNextTuple(grid.origin.data());
+  auto spacing = vtkSmartPointer<vtkDoubleArray>::New();
+  spacing->SetName("LatticeSpacing");
+  spacing->InsertNextValue(h);
+  auto dimensions = vtkSmartPointer<vtkIntArray>::New();
+  dimensions->SetName("LatticeDimensions");
+  dimensions->SetNumberOfComponents(3);
+  dimensions->InsertNextTypedTuple(grid.nodes.data());
+  auto radius = vtkSmartPointer<vtkDoubleArray>::New();
+  radius->SetName("ParticleRadius");
+  radius->InsertNextValue(0.5 * h);
+  for (vtkAbstractArray* array : { static_cast<vtkAbstractArray*>(origin), static_cast<vtkAbstractArray*>(spacing),
+         static_cast<vtkAbstractArray*>(dimensions), static_cast<vtkAbstractArray*>(radius) })
+  {
+    output->GetFieldData()->AddArray(array);
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftBodyVoxelize::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Spacing: " << this->Spacing << "\n";
+  os << indent << "Resolution: " << this->Resolution << "\n";
+  os << indent << "DiagonalStiffness: " << this->DiagonalStiffness << "\n";
+  os << indent << "Density: " << this->Density << "\n";
+}
