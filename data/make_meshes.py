@@ -1,4 +1,4 @@
-"""Generate the project's own small tetrahedral meshes (run with pvpython).
+"""Generate the project's own small meshes (run with pvpython).
 
     pvpython data/make_meshes.py [--output-dir data] [--check]
 
@@ -6,7 +6,14 @@ Writes:
   jelly.vtu  a rounded box ("jelly"), 0.30 x 0.30 x 0.20 m, centred at (0, 0, 0.40) so its bottom
              is 0.30 m above the floor z = 0. 567 points, 2304 tetrahedra, no point or cell arrays.
 
-How it is built (deterministic, no random numbers, no Delaunay):
+  torus.vtp  a closed triangle surface for the voxelized-body demo: a torus (ring radius 0.20 m,
+             tube radius 0.08 m) tilted 30 degrees about x, centred at (0, 0, 0.50). 48 x 24
+             quads split into triangles, indices wrapping around so the surface is closed and
+             manifold without merging points. Checked: closed, consistently oriented outward,
+             and its volume within 2% of 2 pi^2 R r^2 (the 24-gon
+             tube section holds 98.9% of the circle's area).
+
+How the jelly is built (deterministic, no random numbers, no Delaunay):
   1. A structured 8 x 8 x 6 grid of hexahedra over the cube [-1, 1]^3, each hexahedron split into
      the 6 tetrahedra of the Kuhn (Freudenthal) subdivision. All hexahedra use the same main
      diagonal, so the faces between neighbours match (the mesh is conforming). A Kuhn tetrahedron
@@ -200,6 +207,74 @@ def check(name, grid):
     return failures
 
 
+# --- torus.vtp parameters -------------------------------------------------------------------
+TORUS_RING, TORUS_TUBE = 0.20, 0.08      # m
+TORUS_SEGMENTS = (48, 24)                # around the ring, around the tube
+TORUS_TILT_DEG = 30.0
+TORUS_CENTER = (0.0, 0.0, 0.50)
+
+
+def make_torus():
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
+    n, m = TORUS_SEGMENTS
+    u = 2.0 * np.pi * np.arange(n) / n
+    v = 2.0 * np.pi * np.arange(m) / m
+    uu, vv = np.meshgrid(u, v, indexing="ij")          # point (i, j) has index i * m + j
+    x = (TORUS_RING + TORUS_TUBE * np.cos(vv)) * np.cos(uu)
+    y = (TORUS_RING + TORUS_TUBE * np.cos(vv)) * np.sin(uu)
+    z = TORUS_TUBE * np.sin(vv)
+    p = np.stack([x.ravel(), y.ravel(), z.ravel()], axis=1)
+    t = np.radians(TORUS_TILT_DEG)
+    tilt = np.array([[1, 0, 0], [0, np.cos(t), -np.sin(t)], [0, np.sin(t), np.cos(t)]])
+    p = p @ tilt.T + np.asarray(TORUS_CENTER)
+    triangles = []
+    for i in range(n):
+        for j in range(m):
+            a, b = i * m + j, ((i + 1) % n) * m + j
+            c, d = ((i + 1) % n) * m + (j + 1) % m, i * m + (j + 1) % m
+            triangles += [(a, b, c), (a, c, d)]   # counter-clockwise seen from outside
+    points = vtkPoints()
+    points.SetData(numpy_support.numpy_to_vtk(p, deep=True))
+    polys = vtkCellArray()
+    for tri in triangles:
+        polys.InsertNextCell(3, tri)
+    surface = vtkPolyData()
+    surface.SetPoints(points)
+    surface.SetPolys(polys)
+    return surface
+
+
+def check_surface(name, surface):
+    """Closed, manifold, outward-oriented, with the torus's volume; returns failures."""
+    from vtkmodules.vtkFiltersCore import vtkMassProperties
+    failures = []
+    edges = vtkFeatureEdges()
+    edges.SetInputData(surface)
+    edges.BoundaryEdgesOn()
+    edges.NonManifoldEdgesOn()
+    edges.FeatureEdgesOff()
+    edges.ManifoldEdgesOff()
+    edges.Update()
+    open_edges = edges.GetOutput().GetNumberOfCells()
+    # Signed volume from the divergence theorem: positive when the triangles face outward.
+    p = numpy_support.vtk_to_numpy(surface.GetPoints().GetData())
+    tri = numpy_support.vtk_to_numpy(surface.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    signed = np.einsum("ij,ij->i", p[tri[:, 0]], np.cross(p[tri[:, 1]], p[tri[:, 2]])).sum() / 6.0
+    mass = vtkMassProperties()
+    mass.SetInputData(surface)
+    mass.Update()
+    exact = 2.0 * np.pi ** 2 * TORUS_RING * TORUS_TUBE ** 2
+    print(f"{name}: {len(p)} points, {len(tri)} triangles, open or non-manifold edges {open_edges}, "
+          f"signed volume {signed:.6e} m^3 (torus {exact:.6e})")
+    if open_edges:
+        failures.append(f"{name}: {open_edges} open or non-manifold edges")
+    if not signed > 0:
+        failures.append(f"{name}: triangles face inward")
+    if abs(signed / exact - 1.0) > 0.02:
+        failures.append(f"{name}: volume {signed:.4e} not within 2% of {exact:.4e}")
+    return failures
+
+
 def make_jelly():
     points = rounded_box_points(JELLY_CELLS, JELLY_HALF_EXTENTS, JELLY_CENTER, ROUNDING)
     tets = orient_positive(points, structured_tets(JELLY_CELLS))
@@ -249,6 +324,25 @@ def main():
     if not failures:
         failures += check(path, grid)
         print(f"  file size {os.path.getsize(path)} bytes")
+
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLPolyDataWriter
+    torus_path = os.path.join(args.output_dir, "torus.vtp")
+    if not args.check:
+        surface = make_torus()
+        failures += check_surface("torus (generated)", surface)
+        writer = vtkXMLPolyDataWriter()
+        writer.SetFileName(torus_path)
+        writer.SetInputData(surface)
+        writer.SetCompressorTypeToZLib()
+        if writer.Write() != 1:
+            failures.append(f"could not write {torus_path}")
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(torus_path)
+    reader.Update()
+    if reader.GetOutput().GetNumberOfPoints() == 0:
+        failures.append(f"could not read {torus_path}")
+    else:
+        failures += check_surface(torus_path, reader.GetOutput())
 
     for f in failures:
         print("FAILED:", f, file=sys.stderr)

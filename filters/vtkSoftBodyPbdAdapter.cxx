@@ -4,6 +4,7 @@
 #include "vtkSoftBodyInputConversion.h"
 
 #include "vtkCellData.h"
+#include "vtkDataArray.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -89,7 +90,17 @@ std::unique_ptr<softbody::PbdSimulation> vtkSoftBodyPbdAdapter::Create(vtkSoftBo
   body.massDistribution = filter.GetMassDistribution() == vtkSoftBodyFilter::LUMPED_VOLUME
     ? softbody::MassDistribution::LumpedVolume
     : softbody::MassDistribution::AverageIncidentVolume;
-  return std::make_unique<softbody::PbdSimulation>(std::move(body), MakeSettings(filter));
+  softbody::PbdSettings settings = MakeSettings(filter);
+  // A Soft Body Voxelize lattice says how large its particles are: they then rest on the floor
+  // with their surface, not their center.
+  if (vtkDataArray* radius = input->GetFieldData()->GetArray("ParticleRadius"))
+  {
+    if (radius->GetNumberOfTuples() > 0 && radius->GetTuple1(0) >= 0.0)
+    {
+      settings.particleRadius = radius->GetTuple1(0);
+    }
+  }
+  return std::make_unique<softbody::PbdSimulation>(std::move(body), settings);
 }
 
 //------------------------------------------------------------------------------

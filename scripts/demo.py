@@ -4,11 +4,14 @@
         [--plugin build/lib/paraview-5.11/plugins/SoftBody/SoftBody.so] \
         [--data-dir data] [--output-dir output/demo]
 
-Drops the jelly (data/jelly.vtu) onto the floor z = 0 with the filter's default settings
-(3 s simulated, a frame every 0.04 s) and writes
+--example jelly (default): drops the jelly (data/jelly.vtu) onto the floor z = 0 with the
+filter's default settings (mass-spring, 3 s simulated, a frame every 0.04 s) and writes
   <output-dir>/softbody.pvd   the animation: one .vtu per frame under <output-dir>/softbody/
                               (the deformed mesh with Velocity, Displacement, VolumeRatio)
   <output-dir>/softbody.png   a rendered late frame: the body resting on the floor
+--example torus: voxelizes data/torus.vtp into a particle lattice (Soft Body Voxelize), drops it
+with XPBD and renders the torus surface skinned onto the particles (the Surface output), not the
+particles; writes <output-dir>/torus.pvd (the moving surface, .vtp frames) and torus.png.
 Exits with status 1 if an output is missing or the body did not end on the floor.
 """
 
@@ -32,6 +35,8 @@ def parse_args():
                         help="where to write softbody.pvd and softbody.png (default: %(default)s)")
     parser.add_argument("--screenshot-time", type=float, default=None,
                         help="simulated time of the rendered frame, s (default: the last frame)")
+    parser.add_argument("--example", choices=["jelly", "torus"], default="jelly",
+                        help="which body to drop (default: %(default)s)")
     parser.add_argument("--size", type=int, nargs=2, default=[1280, 800], metavar=("W", "H"),
                         help="image size in pixels (default: %(default)s)")
     return parser.parse_args()
@@ -61,43 +66,64 @@ def floor_plane_corners(origin, normal, center, half_size):
     return list(o), list(o + 2.0 * half_size * e1), list(o + 2.0 * half_size * e2)
 
 
+def build_pipeline(pvs, args, input_file):
+    """The example's pipeline: (rest-shape source, Soft Body, output port shown, label, name)."""
+    if args.example == "jelly":
+        reader = pvs.XMLUnstructuredGridReader(registrationName="jelly.vtu", FileName=[input_file])
+        body = pvs.SoftBody(registrationName="SoftBody", Input=reader)
+        print(f"demo: {input_file}: mass-spring ({body.Integrator.GetData()}, "
+              f"E = {body.YoungsModulus:g} Pa, nu = {body.PoissonRatio:g}, "
+              f"density {body.Density:g} kg/m^3)", flush=True)
+        return reader, body, 0, "jelly dropped on the floor"
+    surface = pvs.XMLPolyDataReader(registrationName="torus.vtp", FileName=[input_file])
+    lattice = pvs.SoftBodyVoxelize(registrationName="Voxelize", Input=surface, Resolution=28,
+                                  Density=1100.0)
+    body = pvs.SoftBody(registrationName="SoftBody", Input=lattice, Surface=surface,
+                        Method="XPBD", Iterations=10, XPBDLinkCompliance=2e-4,
+                        Restitution=0.2, EndTime=2.5)
+    lattice.UpdatePipeline()
+    particles = lattice.GetDataInformation().GetNumberOfPoints()
+    print(f"demo: {input_file}: voxelized into {particles} particles, XPBD "
+          f"(link compliance {body.XPBDLinkCompliance:g} m/N, {body.Iterations} iterations)",
+          flush=True)
+    return surface, body, 3, f"voxelized torus ({particles} particles, XPBD), its surface skinned on"
+
+
 def main():
     args = parse_args()
-    mesh_file = os.path.join(args.data_dir, "jelly.vtu")
-    for path, what in ((args.plugin, "plugin"), (mesh_file, "mesh")):
+    name = "softbody" if args.example == "jelly" else "torus"
+    input_file = os.path.join(args.data_dir, "jelly.vtu" if args.example == "jelly" else "torus.vtp")
+    for path, what in ((args.plugin, "plugin"), (input_file, "input")):
         if not os.path.isfile(path):
             print(f"demo: {what} not found: {path}", file=sys.stderr)
             return 1
     os.makedirs(args.output_dir, exist_ok=True)
-    pvd = os.path.join(args.output_dir, "softbody.pvd")
-    png = os.path.join(args.output_dir, "softbody.png")
+    pvd = os.path.join(args.output_dir, name + ".pvd")
+    png = os.path.join(args.output_dir, name + ".png")
     for stale in (pvd, png):
         if os.path.exists(stale):
             os.remove(stale)
     # Frames of an earlier run (perhaps with more frames) would be mixed with this run's.
-    frames_dir = os.path.join(args.output_dir, "softbody")
+    frames_dir = os.path.join(args.output_dir, name)
     if os.path.isdir(frames_dir):
-        for name in os.listdir(frames_dir):
-            if name.startswith("softbody_") and name.endswith(".vtu"):
-                os.remove(os.path.join(frames_dir, name))
+        for entry in os.listdir(frames_dir):
+            if entry.startswith(name + "_"):
+                os.remove(os.path.join(frames_dir, entry))
 
     import paraview.simple as pvs
     # Loads the plugin into this process (remote=False) and adds SoftBody() to paraview.simple.
     pvs.LoadPlugin(args.plugin, remote=False)
 
-    reader = pvs.XMLUnstructuredGridReader(registrationName="jelly.vtu", FileName=[mesh_file])
-    body = pvs.SoftBody(registrationName="SoftBody", Input=reader)
+    reader, body, port, what = build_pipeline(pvs, args, input_file)
     body.UpdatePipelineInformation()
     times = list(body.TimestepValues)
-    print(f"demo: {mesh_file}: simulating {times[-1]:g} s, {len(times)} frames "
-          f"every {body.FrameInterval:g} s ({body.Integrator.GetData()}, "
-          f"E = {body.YoungsModulus:g} Pa, "
-          f"nu = {body.PoissonRatio:g}, density {body.Density:g} kg/m^3)", flush=True)
+    print(f"demo: simulating {times[-1]:g} s, {len(times)} frames every {body.FrameInterval:g} s",
+          flush=True)
 
-    # All frames into one .pvd (+ softbody/softbody_0_<k>.vtu): the writer steps through the
+    # All frames into one .pvd (+ <name>/<name>_0_<k>.vt*): the writer steps through the
     # filter's TimestepValues; the filter simulates forward once, frame after frame.
     start = time.perf_counter()
-    pvs.SaveData(pvd, proxy=body, WriteTimeSteps=1, CompressorType="ZLib")
+    pvs.SaveData(pvd, proxy=pvs.OutputPort(body, port), WriteTimeSteps=1, CompressorType="ZLib")
     simulated = time.perf_counter() - start
     print(f"demo: simulated and wrote {len(times)} frames in {simulated:.1f} s", flush=True)
 
@@ -106,7 +132,7 @@ def main():
         min(times, key=lambda t: abs(t - args.screenshot_time))
     body.UpdatePipeline(t_shot)
     frame = body.GetClientSideObject().GetOutputDataObject(0)
-    bounds = frame.GetBounds()
+    shown = body.GetClientSideObject().GetOutputDataObject(port)
     rest_bounds = reader.GetDataInformation().GetBounds()
     print(f"demo: frame t = {t_shot:g} s: SimulationTime {field_text(frame, 'SimulationTime')} s, "
           f"{field_text(frame, 'StepCount')} steps of {field_text(frame, 'TimeStep')} s "
@@ -114,6 +140,7 @@ def main():
           f"{field_text(frame, 'TotalMass')} kg")
     print(f"demo: plan: {field_text(frame, 'Plan')}")
     print(f"demo: warnings: {field_text(frame, 'Warnings')}")
+    bounds = shown.GetBounds()
     print(f"demo: body z range [{bounds[4]:.4f}, {bounds[5]:.4f}] m "
           f"(at rest before the fall: [{rest_bounds[4]:.4f}, {rest_bounds[5]:.4f}] m)", flush=True)
 
@@ -148,9 +175,10 @@ def main():
     ghost.AmbientColor = ghost.DiffuseColor = [0.9, 0.9, 0.9]
     ghost.Opacity = 0.15
 
-    # The body at the chosen frame, a green jelly with its surface triangles drawn. (Colouring by
-    # VolumeRatio shows little at rest: the sag under its own weight changes volumes by < 0.1 %.)
-    display = pvs.Show(body, view)
+    # The body at the chosen frame, green with its surface triangles drawn (for the torus: the
+    # skinned surface, not the particles). Colouring by VolumeRatio shows little at rest: the
+    # sag under its own weight changes volumes by < 0.1 %.
+    display = pvs.Show(pvs.OutputPort(body, port), view)
     # Solid color. (ColorBy(display, None) raises "invalid association string 'NONE'" in 5.11
     # when the display is not colored by an array yet.)
     display.ColorArrayName = ["POINTS", ""]
@@ -160,7 +188,7 @@ def main():
     display.Specular = 0.4
 
     label = pvs.Text(registrationName="Label",
-                     Text=f"Soft Body: jelly dropped on the floor, t = {t_shot:.2f} s")
+                     Text=f"Soft Body: {what}, t = {t_shot:.2f} s")
     label_display = pvs.Show(label, view)
     label_display.WindowLocation = "Upper Left Corner"
     label_display.FontSize = 14
@@ -185,7 +213,7 @@ def main():
     print(f"demo: rendered in {time.perf_counter() - start:.1f} s", flush=True)
 
     # --- check and report ---------------------------------------------------------------------
-    frame_files = sorted(f for f in os.listdir(frames_dir) if f.endswith(".vtu")) \
+    frame_files = sorted(f for f in os.listdir(frames_dir) if f.startswith(name + "_")) \
         if os.path.isdir(frames_dir) else []
     ok = True
     if not os.path.isfile(pvd) or len(frame_files) != len(times):
