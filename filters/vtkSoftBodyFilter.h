@@ -9,7 +9,8 @@
  * - port 0 ("Mesh"): the input grid with its points moved, the input point and cell arrays passed
  *   through, point arrays "Velocity" [m/s] and "Displacement" [m], cell array "VolumeRatio"
  *   (current / rest volume) and field data "SimulationTime", "StepCount", "TimeStep",
- *   "StableTimeStep", "Integrator", "Plan", "StageSeconds", "Warnings" and "TotalMass";
+ *   "StableTimeStep", "Integrator", "Plan", "StageSeconds", "Warnings", "TotalMass", "Device"
+ *   (the device that ran the steps) and "GLRenderer" (the GPU's renderer; empty on the CPU);
  * - port 1 ("Particles"): a vtkPolyData with one vertex per point and point arrays "Velocity" and
  *   "InverseMass".
  *
@@ -68,6 +69,11 @@ public:
     REORIENT = 0,
     REFUSE = 1
   };
+  enum DeviceType
+  {
+    DEVICE_CPU = 0,
+    DEVICE_GPU_EGL = 1
+  };
 
   ///@{
   /**
@@ -75,6 +81,16 @@ public:
    */
   vtkSetClampMacro(Method, int, MASS_SPRING, MASS_SPRING);
   vtkGetMacro(Method, int);
+  ///@}
+
+  ///@{
+  /**
+   * Device: DEVICE_CPU (default) or DEVICE_GPU_EGL (OpenGL 4.3 compute shaders on a headless
+   * EGL context; Mass-Spring only). When the GPU cannot start, the filter warns why and
+   * simulates on the CPU; field data "Device" says which one ran.
+   */
+  vtkSetClampMacro(Device, int, DEVICE_CPU, DEVICE_GPU_EGL);
+  vtkGetMacro(Device, int);
   ///@}
 
   ///@{
@@ -233,6 +249,7 @@ protected:
     vtkInformationVector* outputVector) override;
 
   int Method = MASS_SPRING;
+  int Device = DEVICE_CPU;
   int Integrator = EULER_CROMER;
   double TimeStep = 0.0;
   double EndTime = 3.0;

@@ -152,8 +152,10 @@ HeadlessGlContext::HeadlessGlContext()
       return;
     }
   }
+  // The tests recognize this message's start as "no GPU here" (skip rather than fail).
   throw GpuUnavailableError("No OpenGL " + std::to_string(kRequiredMajor) + "." +
-    std::to_string(kRequiredMinor) + " core context through EGL:" + why);
+    std::to_string(kRequiredMinor) + " core context through EGL (no EGL driver, or none "
+    "offering it):" + why);
 }
 
 bool HeadlessGlContext::tryDisplay(EGLDisplay display, const std::string& name, std::string& why)
