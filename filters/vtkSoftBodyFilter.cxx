@@ -24,6 +24,9 @@
 
 #include "softbody/errors.h"
 #include "softbody/mass_spring_simulation.h"
+#ifdef SOFTBODY_WITH_GPU
+#include "softbody/gpu/mass_spring_gpu_simulation.h"
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -104,6 +107,31 @@ vtkSmartPointer<vtkStringArray> MakeStringArray(
   return array;
 }
 
+// Names of the devices in field data "Device" (the XML's enumeration texts).
+constexpr const char* kDeviceNames[] = { "CPU", "GPU (EGL)" };
+
+/// The GPU mass-spring stepper, or null with the reason why not (then the caller falls back
+/// to the CPU). Invalid input throws InvalidInputError as the CPU stepper would.
+std::unique_ptr<softbody::Simulation> MakeGpuSimulation(const softbody::BodyDescription& body,
+  const softbody::SceneSettings& scene, std::string& renderer, std::string& whyNot)
+{
+#ifdef SOFTBODY_WITH_GPU
+  std::unique_ptr<softbody::gpu::MassSpringGpuSimulation> simulation =
+    softbody::gpu::tryCreateGpuMassSpring(body, scene, whyNot);
+  if (simulation)
+  {
+    renderer = simulation->glRenderer();
+  }
+  return simulation;
+#else
+  (void)body;
+  (void)scene;
+  (void)renderer;
+  whyNot = "this build of the plugin has no GPU backend (SOFTBODY_ENABLE_GPU was off).";
+  return nullptr;
+#endif
+}
+
 vtkSmartPointer<vtkPoints> MakePoints(const std::vector<softbody::Vec3>& positions)
 {
   auto points = vtkSmartPointer<vtkPoints>::New();
@@ -135,6 +163,11 @@ public:
   std::vector<double> Parameters;
   std::string PinnedPointsArray;
 
+  // The device the simulation runs on (may differ from the Device property after a fallback).
+  int DeviceUsed = vtkSoftBodyFilter::DEVICE_CPU;
+  std::string GLRenderer;
+  std::string DeviceWarning; ///< why the GPU was not used although asked for; empty otherwise
+
   void Discard()
   {
     this->Simulation.reset();
@@ -143,6 +176,9 @@ public:
     this->SimulationFrame = -1;
     this->Input = nullptr;
     this->Parameters.clear();
+    this->DeviceUsed = vtkSoftBodyFilter::DEVICE_CPU;
+    this->GLRenderer.clear();
+    this->DeviceWarning.clear();
   }
 };
 
@@ -432,7 +468,7 @@ bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input)
     this->PBDLinkStiffness, this->PBDVolumeStiffness, this->PBDPinStiffness,
     this->XPBDLinkCompliance, this->XPBDVolumeCompliance, this->XPBDPinCompliance,
     this->BreakingStrain, this->PlasticYield, this->PlasticCreep, this->Friction,
-    this->Restitution, this->VelocityDamping };
+    this->Restitution, this->VelocityDamping, double(this->Device) };
   const std::string pinned =
     vtkSoftBodyInputConversion::IsNoArray(this->PinnedPointsArray) ? "" : this->PinnedPointsArray;
   if (internals.Simulation && internals.Input == input &&
@@ -454,6 +490,11 @@ bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input)
     }
     internals.Pbd = pbd.get();
     internals.Simulation = std::move(pbd);
+    if (this->Device == DEVICE_GPU_EGL)
+    {
+      internals.DeviceWarning = "Device GPU (EGL) runs Mass-Spring only; PBD and XPBD run on the CPU.";
+      vtkWarningMacro(<< internals.DeviceWarning);
+    }
   }
   else if (!this->CreateMassSpring(input, pinned))
   {
@@ -522,8 +563,25 @@ bool vtkSoftBodyFilter::CreateMassSpring(vtkUnstructuredGrid* input, const std::
                                                     : softbody::InvertedTetPolicy::Reorient;
 
   // Throws InvalidInputError for bad geometry or material; the caller reports it.
-  internals.Simulation =
-    std::make_unique<softbody::MassSpringSimulation>(std::move(body), scene);
+  if (this->Device == DEVICE_GPU_EGL && this->Method == MASS_SPRING)
+  {
+    std::string whyNot;
+    internals.Simulation = MakeGpuSimulation(body, scene, internals.GLRenderer, whyNot);
+    if (internals.Simulation)
+    {
+      internals.DeviceUsed = DEVICE_GPU_EGL;
+    }
+    else
+    {
+      internals.DeviceWarning = "Device GPU (EGL) is unavailable, simulating on the CPU: " + whyNot;
+      vtkWarningMacro(<< internals.DeviceWarning);
+    }
+  }
+  if (!internals.Simulation)
+  {
+    internals.Simulation =
+      std::make_unique<softbody::MassSpringSimulation>(std::move(body), scene);
+  }
   return true;
 }
 
@@ -671,7 +729,14 @@ void vtkSoftBodyFilter::FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid
   }
   field->AddArray(MakeStringArray("Plan", plan));
   field->AddArray(MakeScalarArray("StageSeconds", seconds));
-  field->AddArray(MakeStringArray("Warnings", simulation.warnings()));
+  std::vector<std::string> warnings = simulation.warnings();
+  if (!this->Internals->DeviceWarning.empty())
+  {
+    warnings.push_back(this->Internals->DeviceWarning);
+  }
+  field->AddArray(MakeStringArray("Warnings", warnings));
+  field->AddArray(MakeStringArray("Device", { kDeviceNames[this->Internals->DeviceUsed] }));
+  field->AddArray(MakeStringArray("GLRenderer", { this->Internals->GLRenderer }));
 }
 
 //------------------------------------------------------------------------------
@@ -711,6 +776,7 @@ void vtkSoftBodyFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Method: " << this->Method << "\n";
+  os << indent << "Device: " << this->Device << "\n";
   os << indent << "Integrator: " << this->Integrator << "\n";
   os << indent << "TimeStep: " << this->TimeStep << "\n";
   os << indent << "EndTime: " << this->EndTime << "\n";

@@ -10,8 +10,9 @@
  * - port 0 ("Mesh"): the input grid with its points moved, the input point and cell arrays passed
  *   through, point arrays "Velocity" [m/s] and "Displacement" [m], cell array "VolumeRatio"
  *   (current / rest volume) and field data "SimulationTime", "StepCount", "TimeStep",
- *   "StableTimeStep", "Integrator", "Plan", "StageSeconds", "Warnings" and "TotalMass"; for PBD
- *   and XPBD also cell array "Broken" (broken links, and tets with a broken edge, which are
+ *   "StableTimeStep", "Integrator", "Plan", "StageSeconds", "Warnings", "TotalMass", "Device"
+ *   (the device that ran the steps) and "GLRenderer" (the GPU's renderer; empty on the CPU); for
+ *   PBD and XPBD also cell array "Broken" (broken links, and tets with a broken edge, which are
  *   hidden through vtkGhostType so the body visibly fragments) and field data "Iterations" and
  *   "Residual" of the frame's last step;
  * - port 1 ("Particles"): a vtkPolyData with one vertex per point and point arrays "Velocity" and
@@ -85,6 +86,11 @@ public:
   {
     REORIENT = 0,
     REFUSE = 1
+  };
+  enum DeviceType
+  {
+    DEVICE_CPU = 0,
+    DEVICE_GPU_EGL = 1
   };
 
   /**
@@ -167,6 +173,16 @@ public:
   vtkGetMacro(Restitution, double);
   vtkSetClampMacro(VelocityDamping, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(VelocityDamping, double);
+  ///@}
+
+  ///@{
+  /**
+   * Device: DEVICE_CPU (default) or DEVICE_GPU_EGL (OpenGL 4.3 compute shaders on a headless
+   * EGL context; Mass-Spring only). When the GPU cannot start, the filter warns why and
+   * simulates on the CPU; field data "Device" says which one ran.
+   */
+  vtkSetClampMacro(Device, int, DEVICE_CPU, DEVICE_GPU_EGL);
+  vtkGetMacro(Device, int);
   ///@}
 
   ///@{
@@ -325,6 +341,7 @@ protected:
     vtkInformationVector* outputVector) override;
 
   int Method = MASS_SPRING;
+  int Device = DEVICE_CPU;
   int Integrator = EULER_CROMER;
   double TimeStep = 0.0;
   double EndTime = 3.0;

@@ -1,0 +1,354 @@
+#include "mass_spring_device.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace softbody::gpu
+{
+namespace
+{
+
+/// Vec3 (3 packed doubles) -> dvec4 with w = 0: std430 arrays of dvec3 have a 32-byte stride.
+std::vector<double> toDvec4(const std::vector<Vec3>& values)
+{
+  std::vector<double> packed(4 * values.size(), 0.0);
+  for (std::size_t i = 0; i < values.size(); ++i)
+  {
+    packed[4 * i + 0] = values[i].x();
+    packed[4 * i + 1] = values[i].y();
+    packed[4 * i + 2] = values[i].z();
+  }
+  return packed;
+}
+
+void fromDvec4(const std::vector<double>& packed, std::vector<Vec3>& values)
+{
+  values.resize(packed.size() / 4);
+  for (std::size_t i = 0; i < values.size(); ++i)
+  {
+    values[i] = Vec3(packed[4 * i + 0], packed[4 * i + 1], packed[4 * i + 2]);
+  }
+}
+
+/// Per-element constants as dvec4 (a, b, c, 0).
+std::vector<double> packConstants(
+  const std::vector<double>& a, const std::vector<double>& b, const std::vector<double>& c)
+{
+  std::vector<double> packed(4 * a.size(), 0.0);
+  for (std::size_t i = 0; i < a.size(); ++i)
+  {
+    packed[4 * i + 0] = a[i];
+    packed[4 * i + 1] = b[i];
+    packed[4 * i + 2] = c[i];
+  }
+  return packed;
+}
+
+/// [offsets | items] in one array: a kernel may bind only 8 storage blocks (GL 4.3 minimum).
+std::vector<std::int32_t> flattenCsr(const Csr& csr)
+{
+  std::vector<std::int32_t> flat(csr.offsets);
+  flat.insert(flat.end(), csr.items.begin(), csr.items.end());
+  return flat;
+}
+
+/// Vertex -> edge incidence with the end encoded in the sign: e when the vertex is the edge's
+/// end a, ~e when it is end b (the gather needs the sign only).
+std::vector<std::int32_t> signedVertexEdges(const Topology& topology)
+{
+  std::vector<std::int32_t> flat = flattenCsr(topology.vertexEdges);
+  const std::size_t itemsStart = topology.vertexEdges.offsets.size();
+  for (std::size_t i = 0; i < topology.vertexCount; ++i)
+  {
+    for (std::int32_t k = topology.vertexEdges.offsets[i]; k < topology.vertexEdges.offsets[i + 1]; ++k)
+    {
+      std::int32_t& item = flat[itemsStart + static_cast<std::size_t>(k)];
+      if (topology.edges[static_cast<std::size_t>(item)].a != static_cast<std::int32_t>(i))
+      {
+        item = ~item;
+      }
+    }
+  }
+  return flat;
+}
+
+StorageBuffer vectorBuffer(const char* name, std::size_t count)
+{
+  return StorageBuffer(name, 4 * sizeof(double) * count);
+}
+
+void toArray(const Vec3& v, double (&out)[3])
+{
+  out[0] = v.x();
+  out[1] = v.y();
+  out[2] = v.z();
+}
+
+} // namespace
+
+MassSpringDevice::MassSpringDevice(const MassSpringSetup& setup)
+  : Scene(setup.scene)
+  , VertexCount(setup.topology.vertexCount)
+  , EdgeCount(setup.topology.edges.size())
+  , TetCount(setup.topology.tets.size())
+  , HasVolumeTerm(setup.constants.hasVolumeTerm)
+  , Clock(kGpuStageCount)
+{
+  static_assert(sizeof(Edge) == 2 * sizeof(std::int32_t), "Edge must be two packed int32 (ivec2)");
+  static_assert(sizeof(Tet) == 4 * sizeof(std::int32_t), "Tet must be four packed int32 (ivec4)");
+  const Topology& topology = setup.topology;
+  const ElementConstants& c = setup.constants;
+  Edges = StorageBuffer::fromVector("edges", topology.edges);
+  EdgeConstants = StorageBuffer::fromVector(
+    "edge constants", packConstants(c.restLength, c.springStiffness, c.springDamping));
+  Tets = StorageBuffer::fromVector("tets", topology.tets);
+  TetConstants = StorageBuffer::fromVector(
+    "tet constants", packConstants(c.restVolume, c.volumeStiffness, c.volumeDamping));
+  VertexEdges = StorageBuffer::fromVector("vertex edges", signedVertexEdges(topology));
+  VertexTetCorners = StorageBuffer::fromVector("vertex tet corners", flattenCsr(topology.vertexTetCorners));
+  InverseMasses = StorageBuffer::fromVector("inverse masses", setup.masses.inverseMass);
+
+  Positions = vectorBuffer("positions", VertexCount);
+  Velocities = vectorBuffer("velocities", VertexCount);
+  Accelerations = vectorBuffer("accelerations", VertexCount);
+  if (Scene.integrator == Integrator::Midpoint)
+  {
+    MidPositions = vectorBuffer("midpoint positions", VertexCount);
+    MidVelocities = vectorBuffer("midpoint velocities", VertexCount);
+  }
+  SpringForces = vectorBuffer("spring forces", EdgeCount);
+  TetScales = StorageBuffer("tet scales", sizeof(double) * (HasVolumeTerm ? TetCount : 0));
+  if (Scene.strainLimit > 0.0)
+  {
+    EdgeCorrections = vectorBuffer("edge corrections", EdgeCount);
+  }
+  const std::size_t groups = ComputeProgram::groupCount(std::max(EdgeCount, VertexCount));
+  Partials = vectorBuffer("divergence partials", groups);
+  PartialsHost.resize(4 * groups);
+}
+
+void MassSpringDevice::uploadState(
+  const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities)
+{
+  const std::vector<double> x = toDvec4(positions);
+  const std::vector<double> v = toDvec4(velocities);
+  Positions.upload(x.data(), x.size() * sizeof(double));
+  Velocities.upload(v.data(), v.size() * sizeof(double));
+}
+
+void MassSpringDevice::downloadState(
+  std::vector<Vec3>& positions, std::vector<Vec3>& velocities) const
+{
+  std::vector<double> packed(4 * VertexCount);
+  Positions.download(packed.data(), packed.size() * sizeof(double));
+  fromDvec4(packed, positions);
+  Velocities.download(packed.data(), packed.size() * sizeof(double));
+  fromDvec4(packed, velocities);
+}
+
+void MassSpringDevice::computeAccelerations(const StorageBuffer& x, const StorageBuffer& v)
+{
+  Clock.begin(kStageForces);
+  const ComputeProgram& springs = Kernels.springForces;
+  springs.use();
+  springs.bind("Edges", Edges);
+  springs.bind("EdgeConstants", EdgeConstants);
+  springs.bind("InPositions", x);
+  springs.bind("InVelocities", v);
+  springs.bind("SpringForces", SpringForces);
+  springs.dispatch(EdgeCount);
+
+  if (HasVolumeTerm)
+  {
+    const ComputeProgram& volumes = Kernels.volumeForces;
+    volumes.use();
+    volumes.bind("Tets", Tets);
+    volumes.bind("TetConstants", TetConstants);
+    volumes.bind("InPositions", x);
+    volumes.bind("InVelocities", v);
+    volumes.bind("TetScales", TetScales);
+    volumes.dispatch(TetCount);
+  }
+
+  const ComputeProgram& gather = Kernels.gatherAccelerations;
+  gather.use();
+  gather.bind("SpringForces", SpringForces);
+  gather.bind("VertexEdges", VertexEdges);
+  gather.bind("TetScales", TetScales);
+  gather.bind("VertexTetCorners", VertexTetCorners);
+  gather.bind("Tets", Tets);
+  gather.bind("InPositions", x);
+  gather.bind("InverseMasses", InverseMasses);
+  gather.bind("Accelerations", Accelerations);
+  gather.set("hasVolumeTerm", HasVolumeTerm);
+  double gravity[3];
+  toArray(Scene.gravity, gravity);
+  gather.set("gravity", gravity);
+  gather.dispatch(VertexCount);
+  Clock.end();
+}
+
+void MassSpringDevice::integrate(double h, double kick)
+{
+  // The integrators of core's integrators.cpp; force evaluations are timed as "forces".
+  auto timedUpdate = [&](const ComputeProgram& program) {
+    Clock.begin(kStageIntegrate);
+    program.dispatch(VertexCount);
+    Clock.end();
+  };
+  switch (Scene.integrator)
+  {
+    case Integrator::Euler:
+    {
+      computeAccelerations(Positions, Velocities);
+      const ComputeProgram& update = Kernels.eulerStep;
+      update.use();
+      update.bind("Positions", Positions);
+      update.bind("Velocities", Velocities);
+      update.bind("Accelerations", Accelerations);
+      update.set("h", h);
+      timedUpdate(update);
+      break;
+    }
+    case Integrator::Midpoint:
+    {
+      computeAccelerations(Positions, Velocities);
+      const ComputeProgram& predict = Kernels.midpointPredict;
+      predict.use();
+      predict.bind("Positions", Positions);
+      predict.bind("Velocities", Velocities);
+      predict.bind("Accelerations", Accelerations);
+      predict.bind("MidPositions", MidPositions);
+      predict.bind("MidVelocities", MidVelocities);
+      predict.set("halfH", 0.5 * h);
+      timedUpdate(predict);
+      computeAccelerations(MidPositions, MidVelocities);
+      const ComputeProgram& update = Kernels.midpointStep;
+      update.use();
+      update.bind("Positions", Positions);
+      update.bind("Velocities", Velocities);
+      update.bind("MidVelocities", MidVelocities);
+      update.bind("Accelerations", Accelerations);
+      update.set("h", h);
+      timedUpdate(update);
+      break;
+    }
+    case Integrator::Verlet:
+    case Integrator::EulerCromer:
+    {
+      computeAccelerations(Positions, Velocities);
+      const ComputeProgram& update = Kernels.kickDrift;
+      update.use();
+      update.bind("Positions", Positions);
+      update.bind("Velocities", Velocities);
+      update.bind("Accelerations", Accelerations);
+      update.set("kick", Scene.integrator == Integrator::Verlet ? kick : h);
+      update.set("h", h);
+      timedUpdate(update);
+      break;
+    }
+  }
+}
+
+void MassSpringDevice::limitStrain(double h)
+{
+  Clock.begin(kStageStrainLimit);
+  const ComputeProgram& corrections = Kernels.strainCorrections;
+  const ComputeProgram& apply = Kernels.strainApply;
+  for (int iteration = 0; iteration < Scene.strainLimitIterations; ++iteration)
+  {
+    corrections.use();
+    corrections.bind("Edges", Edges);
+    corrections.bind("EdgeConstants", EdgeConstants);
+    corrections.bind("InverseMasses", InverseMasses);
+    corrections.bind("Positions", Positions);
+    corrections.bind("EdgeCorrections", EdgeCorrections);
+    corrections.set("maxStretch", Scene.strainLimit);
+    corrections.dispatch(EdgeCount);
+
+    apply.use();
+    apply.bind("VertexEdges", VertexEdges);
+    apply.bind("EdgeCorrections", EdgeCorrections);
+    apply.bind("InverseMasses", InverseMasses);
+    apply.bind("Positions", Positions);
+    apply.bind("Velocities", Velocities);
+    // Verlet's velocity is the position difference of the last step: a moved point moves it.
+    apply.set("adjustVelocities", Scene.integrator == Integrator::Verlet);
+    apply.set("h", h);
+    apply.dispatch(VertexCount);
+  }
+  Clock.end();
+}
+
+void MassSpringDevice::resolveFloor()
+{
+  Clock.begin(kStageFloor);
+  const ComputeProgram& floor = Kernels.floorContacts;
+  floor.use();
+  floor.bind("InverseMasses", InverseMasses);
+  floor.bind("Positions", Positions);
+  floor.bind("Velocities", Velocities);
+  double origin[3], normal[3];
+  toArray(Scene.floor.origin, origin);
+  toArray(Scene.floor.normal, normal);
+  floor.set("floorOrigin", origin);
+  floor.set("floorNormal", normal);
+  floor.dispatch(VertexCount);
+  Clock.end();
+}
+
+void MassSpringDevice::step(double h, double kick)
+{
+  // Core's stage order (MassSpringSimulation::stepOnce).
+  integrate(h, kick);
+  if (Scene.strainLimit > 0.0)
+  {
+    limitStrain(h);
+  }
+  if (Scene.floorEnabled)
+  {
+    resolveFloor();
+  }
+}
+
+DivergenceProbe MassSpringDevice::probeDivergence()
+{
+  Clock.begin(kStageDivergenceCheck);
+  const ComputeProgram& probe = Kernels.divergencePartials;
+  probe.use();
+  probe.bind("Edges", Edges);
+  probe.bind("EdgeConstants", EdgeConstants);
+  probe.bind("Positions", Positions);
+  probe.bind("Velocities", Velocities);
+  probe.bind("Partials", Partials);
+  probe.set("edgeCount", static_cast<unsigned>(EdgeCount));
+  probe.set("vertexCount", static_cast<unsigned>(VertexCount));
+  probe.dispatch(std::max(EdgeCount, VertexCount));
+  Clock.end();
+  Partials.download(PartialsHost.data(), PartialsHost.size() * sizeof(double));
+  Clock.collect(); // the GPU is idle now: reading the timers costs nothing
+
+  DivergenceProbe result;
+  bool stretchIsNan = false;
+  for (std::size_t g = 0; g < PartialsHost.size() / 4; ++g)
+  {
+    result.maxStretch = std::max(result.maxStretch, PartialsHost[4 * g + 0]);
+    stretchIsNan = stretchIsNan || PartialsHost[4 * g + 1] != 0.0;
+    result.finiteVelocities = result.finiteVelocities && PartialsHost[4 * g + 2] == 0.0;
+  }
+  if (stretchIsNan)
+  {
+    result.maxStretch = std::numeric_limits<double>::quiet_NaN();
+  }
+  return result;
+}
+
+const std::vector<double>& MassSpringDevice::stageSeconds()
+{
+  Clock.collect();
+  return Clock.seconds();
+}
+
+} // namespace softbody::gpu

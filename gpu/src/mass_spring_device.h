@@ -1,0 +1,90 @@
+// The mass-spring body on the GPU: its buffers (constants uploaded once, state kept between
+// steps) and the step as a fixed sequence of kernels in core's stage order. Everything here
+// runs on the GL thread with the context current.
+#pragma once
+
+#include "mass_spring_kernels.h"
+#include "stage_clock.h"
+#include "storage_buffer.h"
+
+#include "softbody/mass_spring_setup.h"
+
+#include <vector>
+
+namespace softbody::gpu
+{
+
+/// What the divergence check needs, reduced on the GPU.
+struct DivergenceProbe
+{
+  double maxStretch = 0.0; ///< largest l / l0; NaN if some length was not finite
+  bool finiteVelocities = true;
+};
+
+/// Stages timed on the GPU, in step order (as core's MassSpringSimulation names them).
+enum GpuStage
+{
+  kStageForces,
+  kStageIntegrate,
+  kStageStrainLimit,
+  kStageFloor,
+  kStageDivergenceCheck,
+  kGpuStageCount
+};
+
+class MassSpringDevice
+{
+public:
+  /// Uploads the body's constants and its rest state. Throws GpuUnavailableError when a
+  /// kernel does not compile or a buffer does not fit.
+  explicit MassSpringDevice(const MassSpringSetup& setup);
+
+  void uploadState(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities);
+  void downloadState(std::vector<Vec3>& positions, std::vector<Vec3>& velocities) const;
+
+  /// One step of size h: integrate (forces inside), strain limit, floor. `kick` is the
+  /// velocity kick of Verlet (ignored by the other integrators).
+  void step(double h, double kick);
+  DivergenceProbe probeDivergence();
+
+  /// GPU time per GpuStage so far (waits for the GPU to finish what was timed).
+  const std::vector<double>& stageSeconds();
+
+private:
+  /// Accelerations at the state (x, v) into Accelerations.
+  void computeAccelerations(const StorageBuffer& x, const StorageBuffer& v);
+  void integrate(double h, double kick);
+  void limitStrain(double h);
+  void resolveFloor();
+
+  SceneSettings Scene;
+  std::size_t VertexCount = 0;
+  std::size_t EdgeCount = 0;
+  std::size_t TetCount = 0;
+  bool HasVolumeTerm = false;
+
+  MassSpringKernels Kernels;
+  StageClock Clock;
+
+  // Constants (uploaded once).
+  StorageBuffer Edges;            ///< ivec2 per edge
+  StorageBuffer EdgeConstants;    ///< (l0, k, k_d, 0) per edge
+  StorageBuffer Tets;             ///< ivec4 per tet
+  StorageBuffer TetConstants;     ///< (V0, k', k_d', 0) per tet
+  StorageBuffer VertexEdges;      ///< CSR [offsets | signed edge items]
+  StorageBuffer VertexTetCorners; ///< CSR [offsets | 4 tet + corner]
+  StorageBuffer InverseMasses;    ///< double per vertex
+  // State and work arrays (dvec4 per vertex or element).
+  StorageBuffer Positions;
+  StorageBuffer Velocities;
+  StorageBuffer MidPositions;
+  StorageBuffer MidVelocities;
+  StorageBuffer Accelerations;
+  StorageBuffer SpringForces;
+  StorageBuffer TetScales; ///< double per tet
+  StorageBuffer EdgeCorrections;
+  StorageBuffer Partials; ///< one dvec4 per work group of the divergence check
+  std::vector<double> PartialsHost;
+};
+
+} // namespace softbody::gpu

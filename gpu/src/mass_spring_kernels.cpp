@@ -1,0 +1,23 @@
+#include "mass_spring_kernels.h"
+
+#include "softbody_gpu_shaders.h"
+
+namespace softbody::gpu
+{
+
+MassSpringKernels::MassSpringKernels()
+  : springForces("spring_forces", shaders::kSpringForcesSource)
+  , volumeForces("volume_forces", shaders::kVolumeForcesSource)
+  , gatherAccelerations("gather_accelerations", shaders::kGatherAccelerationsSource)
+  , eulerStep("euler_step", shaders::kEulerStepSource)
+  , midpointPredict("midpoint_predict", shaders::kMidpointPredictSource)
+  , midpointStep("midpoint_step", shaders::kMidpointStepSource)
+  , kickDrift("kick_drift", shaders::kKickDriftSource)
+  , strainCorrections("strain_corrections", shaders::kStrainCorrectionsSource)
+  , strainApply("strain_apply", shaders::kStrainApplySource)
+  , floorContacts("floor_contacts", shaders::kFloorContactsSource)
+  , divergencePartials("divergence_partials", shaders::kDivergencePartialsSource)
+{
+}
+
+} // namespace softbody::gpu

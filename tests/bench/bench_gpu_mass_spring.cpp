@@ -1,0 +1,227 @@
+// GPU mass-spring step cost against the CPU stepper, on meshes from ~1k to ~150k tets.
+//
+// For each mesh: ms per step on the CPU (all threads) and on the GPU (the same number of
+// steps; the state stays on the GPU, as between output frames), the cost of one frame's
+// download, the speed-up, and the largest position difference after those steps relative to
+// the body's size (the correctness check: both run double precision). Results also go to CSV.
+// On Mesa's llvmpipe (software rasterizer, no GPU) the GPU timings measure a CPU emulating a
+// GPU: read them as a correctness run, not as performance.
+//
+// Usage: bench_gpu_mass_spring [--smoke] [--data <shared data dir>] [--csv <file>]
+// Exit code 77 (CTest skip) when no EGL / OpenGL 4.3 context can be made.
+#include "bench_meshes.h"
+
+#include "softbody/errors.h"
+#include "softbody/gpu/mass_spring_gpu_simulation.h"
+#include "softbody/mass_spring_simulation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+
+using namespace softbody;
+
+namespace
+{
+
+struct Options
+{
+  bool smoke = false;
+  std::string dataDir = "../shared/data";
+  std::string csvPath = "bench_gpu_mass_spring.csv";
+};
+
+Options parse(int argc, char** argv)
+{
+  Options options;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string arg = argv[i];
+    if (arg == "--smoke")
+    {
+      options.smoke = true;
+    }
+    else if (arg == "--data" && i + 1 < argc)
+    {
+      options.dataDir = argv[++i];
+    }
+    else if (arg == "--csv" && i + 1 < argc)
+    {
+      options.csvPath = argv[++i];
+    }
+    else
+    {
+      std::cerr << "usage: bench_gpu_mass_spring [--smoke] [--data DIR] [--csv FILE]\n";
+      std::exit(2);
+    }
+  }
+  return options;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// The benchmark scene of bench_mass_spring: the default material dropped onto a floor just
+/// below the body.
+SceneSettings sceneFor(const TetMesh& mesh)
+{
+  double lowest = 1e300;
+  for (const Vec3& p : mesh.points)
+  {
+    lowest = std::min(lowest, p.z());
+  }
+  SceneSettings scene;
+  scene.floorEnabled = true;
+  scene.floor.origin = Vec3(0, 0, lowest - 1e-3);
+  return scene;
+}
+
+double bodySize(const TetMesh& mesh)
+{
+  Vec3 low = mesh.points.front(), high = mesh.points.front();
+  for (const Vec3& p : mesh.points)
+  {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  return (high - low).norm();
+}
+
+struct Result
+{
+  double cpuSecondsPerStep = 0.0;
+  double gpuSecondsPerStep = 0.0;
+  double downloadSeconds = 0.0;
+  double relativeDifference = 0.0;
+  bool bitwiseEqual = false;
+  int steps = 0;
+};
+
+/// Runs `steps` steps (after a warm-up of 10) and returns the seconds per step.
+double timeSteps(Simulation& simulation, int steps)
+{
+  const double h = simulation.stepSize();
+  const auto start = std::chrono::steady_clock::now();
+  simulation.advance(simulation.time() + steps * h);
+  return secondsSince(start) / steps;
+}
+
+Result measure(const TetMesh& mesh, Simulation& cpu, Simulation& gpu, bool smoke)
+{
+  Result result;
+  const double h = cpu.stepSize();
+  cpu.advance(10 * h); // warm-up: caches, TBB threads, page faults, shader compilation
+  gpu.advance(10 * h);
+  const auto probeStart = std::chrono::steady_clock::now();
+  cpu.advance(cpu.time() + 5 * h);
+  const double probe = secondsSince(probeStart) / 5;
+  gpu.advance(gpu.time() + 5 * h);
+  result.steps = smoke ? 5 : std::max(20, static_cast<int>(0.3 / probe));
+  result.cpuSecondsPerStep = timeSteps(cpu, result.steps);
+  result.gpuSecondsPerStep = timeSteps(gpu, result.steps);
+
+  const auto downloadStart = std::chrono::steady_clock::now();
+  const std::vector<Vec3>& onGpu = gpu.positions(); // one frame's download
+  result.downloadSeconds = secondsSince(downloadStart);
+  const std::vector<Vec3>& onCpu = cpu.positions();
+  double largest = 0.0;
+  for (std::size_t i = 0; i < onCpu.size(); ++i)
+  {
+    largest = std::max(largest, (onGpu[i] - onCpu[i]).norm());
+  }
+  result.relativeDifference = largest / bodySize(mesh);
+  result.bitwiseEqual = std::memcmp(onGpu.data(), onCpu.data(), onCpu.size() * sizeof(Vec3)) == 0;
+  return result;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  const Options options = parse(argc, argv);
+  std::vector<bench::NamedMesh> meshes = bench::generatedMeshes(options.smoke);
+  for (auto& m : bench::sharedMeshes(options.dataDir))
+  {
+    meshes.push_back(std::move(m));
+  }
+
+  std::ofstream csv(options.csvPath);
+  csv << "mesh,vertices,tets,steps,cpu_ms_per_step,gpu_ms_per_step,gpu_speedup,"
+         "download_ms,max_relative_difference,bitwise_equal,gl_renderer\n";
+  bool printedHeader = false;
+  for (const auto& named : meshes)
+  {
+    BodyDescription body;
+    body.mesh = named.mesh;
+    const SceneSettings scene = sceneFor(named.mesh);
+    std::string whyNot;
+    std::unique_ptr<gpu::MassSpringGpuSimulation> gpuSimulation;
+    try
+    {
+      gpuSimulation = gpu::tryCreateGpuMassSpring(body, scene, whyNot);
+    }
+    catch (const std::exception& error)
+    {
+      std::printf("%-22s skipped: %s\n", named.name.c_str(), error.what());
+      continue;
+    }
+    if (!gpuSimulation)
+    {
+      if (whyNot.rfind("No OpenGL", 0) == 0)
+      {
+        std::printf("skipped: %s\n", whyNot.c_str());
+        return 77;
+      }
+      std::printf("%-22s skipped on the GPU: %s\n", named.name.c_str(), whyNot.c_str());
+      continue;
+    }
+    if (!printedHeader)
+    {
+      const std::string& renderer = gpuSimulation->glRenderer();
+      std::printf("GL renderer: %s (%s)\n", renderer.c_str(), gpuSimulation->glVersion().c_str());
+      if (renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos)
+      {
+        std::printf("note: software rendering (Mesa on the CPU): GPU timings below are a "
+                    "correctness run, not GPU performance.\n");
+      }
+      std::printf("\n%-22s %8s %8s %6s %10s %10s %8s %10s %12s\n", "mesh", "tets", "verts", "steps",
+        "cpu ms", "gpu ms", "speedup", "dl ms", "max rel diff");
+      printedHeader = true;
+    }
+    MassSpringSimulation cpuSimulation(body, scene);
+    Result r;
+    try
+    {
+      r = measure(named.mesh, cpuSimulation, *gpuSimulation, options.smoke);
+    }
+    catch (const std::exception& error)
+    {
+      std::printf("%-22s failed: %s\n", named.name.c_str(), error.what());
+      return 1;
+    }
+    std::printf("%-22s %8zu %8zu %6d %10.3f %10.3f %8.2f %10.3f %12.3g%s\n", named.name.c_str(),
+      named.mesh.tets.size(), named.mesh.points.size(), r.steps, 1e3 * r.cpuSecondsPerStep,
+      1e3 * r.gpuSecondsPerStep, r.cpuSecondsPerStep / r.gpuSecondsPerStep, 1e3 * r.downloadSeconds,
+      r.relativeDifference, r.bitwiseEqual ? "  (bitwise equal)" : "");
+    csv << named.name << ',' << named.mesh.points.size() << ',' << named.mesh.tets.size() << ','
+        << r.steps << ',' << 1e3 * r.cpuSecondsPerStep << ',' << 1e3 * r.gpuSecondsPerStep << ','
+        << r.cpuSecondsPerStep / r.gpuSecondsPerStep << ',' << 1e3 * r.downloadSeconds << ','
+        << r.relativeDifference << ',' << (r.bitwiseEqual ? 1 : 0) << ",\""
+        << gpuSimulation->glRenderer() << "\"\n";
+    if (!(r.relativeDifference <= 1e-9))
+    {
+      std::fprintf(stderr, "error: GPU and CPU differ by %g of the body size (tolerance 1e-9)\n",
+        r.relativeDifference);
+      return 1;
+    }
+  }
+  std::printf("\nCSV written to %s\n", options.csvPath.c_str());
+  return 0;
+}

@@ -1,0 +1,273 @@
+// The GPU stepper against core's CPU stepper: same set-up, same states after N steps within a
+// stated tolerance, for every integrator; bitwise reproducible across runs; the frame-cache
+// contract (state / restoreState). Skipped (GTEST_SKIP, reported as skipped by CTest) where
+// no EGL/OpenGL 4.3 context can be made.
+#include "softbody/errors.h"
+#include "softbody/gpu/mass_spring_gpu_simulation.h"
+#include "softbody/mass_spring_simulation.h"
+#include "softbody/mesh_generators.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+
+using namespace softbody;
+
+namespace
+{
+
+/// Largest |x_gpu - x_cpu| over the body's size, after the GPU path has taken its steps in
+/// double precision too. Measured on Mesa llvmpipe: 0 (bitwise equal) for every integrator;
+/// the bound leaves room for GPUs whose sqrt or division round differently (1 ulp per
+/// operation, amplified over the steps by the dynamics).
+constexpr double kRelativeTolerance = 1e-9;
+
+BodyDescription smallBody(bool pinTop = false)
+{
+  BodyDescription body;
+  // 6 x 5 x 4 cells: 720 tets, ~1k edges; lifted so that it falls onto the floor.
+  body.mesh = makeTetBox(6, 5, 4, 0.02, Vec3(0.0, 0.0, 0.01));
+  if (pinTop)
+  {
+    body.pinned.assign(body.mesh.points.size(), 0);
+    for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
+    {
+      body.pinned[i] = body.mesh.points[i].z() > 0.0899 ? 1 : 0;
+    }
+  }
+  return body;
+}
+
+SceneSettings busyScene(Integrator integrator)
+{
+  // Every stage on: volume term (Poisson 0.3), strain limit and floor contact.
+  SceneSettings scene;
+  scene.integrator = integrator;
+  scene.floorEnabled = true;
+  scene.strainLimit = 1.05;
+  return scene;
+}
+
+/// The GPU stepper, or null (and the test skips) where no context can be made. Any other
+/// failure (a kernel that does not compile, say) fails the test: it is a bug, not a machine
+/// without a GPU.
+std::unique_ptr<gpu::MassSpringGpuSimulation> makeGpu(
+  const BodyDescription& body, const SceneSettings& scene)
+{
+  std::string whyNot;
+  auto simulation = gpu::tryCreateGpuMassSpring(body, scene, whyNot);
+  if (!simulation)
+  {
+    std::cerr << "GPU unavailable: " << whyNot << "\n";
+    const bool noContext = whyNot.rfind("No OpenGL", 0) == 0;
+    EXPECT_TRUE(noContext) << "the GPU stepper failed for another reason than a missing context";
+  }
+  return simulation;
+}
+
+#define MAKE_GPU_OR_SKIP(name, body, scene)                                                       \
+  auto name = makeGpu(body, scene);                                                               \
+  if (!name)                                                                                      \
+  {                                                                                               \
+    GTEST_SKIP() << "no EGL / OpenGL 4.3 context here";                                          \
+  }
+
+double maxDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
+{
+  double largest = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+  {
+    largest = std::max(largest, (a[i] - b[i]).norm());
+  }
+  return largest;
+}
+
+bool bitwiseEqual(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
+{
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+}
+
+class GpuAgainstCpu : public ::testing::TestWithParam<Integrator>
+{
+};
+
+} // namespace
+
+TEST_P(GpuAgainstCpu, SameStatesAfterManyStepsWithEveryStage)
+{
+  const BodyDescription body = smallBody();
+  const SceneSettings scene = busyScene(GetParam());
+  MAKE_GPU_OR_SKIP(gpuSimulation, body, scene);
+  MassSpringSimulation cpuSimulation(body, scene);
+
+  // Same set-up: core's code on both sides.
+  EXPECT_EQ(gpuSimulation->stepSize(), cpuSimulation.stepSize());
+  EXPECT_EQ(gpuSimulation->estimatedStableStep(), cpuSimulation.estimatedStableStep());
+  EXPECT_EQ(gpuSimulation->totalMass(), cpuSimulation.totalMass());
+  EXPECT_EQ(gpuSimulation->warnings(), cpuSimulation.warnings());
+
+  // Three frames of 0.02 s: a few hundred steps; the body hits the floor and bounces.
+  const double size = 0.12;
+  for (double t : { 0.02, 0.04, 0.06 })
+  {
+    gpuSimulation->advance(t);
+    cpuSimulation.advance(t);
+    ASSERT_EQ(gpuSimulation->stepCount(), cpuSimulation.stepCount());
+    ASSERT_EQ(gpuSimulation->time(), cpuSimulation.time());
+    const double dx = maxDifference(gpuSimulation->positions(), cpuSimulation.positions());
+    const double dv = maxDifference(gpuSimulation->velocities(), cpuSimulation.velocities());
+    std::cout << integratorName(GetParam()) << " t = " << t << " s, " << cpuSimulation.stepCount()
+              << " steps: max |dx| / size = " << dx / size << ", max |dv| = " << dv << " m/s"
+              << (bitwiseEqual(gpuSimulation->positions(), cpuSimulation.positions()) ? " (bitwise equal)" : "")
+              << "\n";
+    EXPECT_LE(dx / size, kRelativeTolerance);
+  }
+  // The body moved (the comparison is not between two resting bodies).
+  EXPECT_GT(maxDifference(cpuSimulation.positions(), cpuSimulation.restPositions()), 1e-3);
+  const std::vector<double> gpuRatios = gpuSimulation->tetVolumeRatios();
+  const std::vector<double> cpuRatios = cpuSimulation.tetVolumeRatios();
+  ASSERT_EQ(gpuRatios.size(), cpuRatios.size());
+  for (std::size_t t = 0; t < gpuRatios.size(); ++t)
+  {
+    ASSERT_NEAR(gpuRatios[t], cpuRatios[t], 1e-6);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllIntegrators, GpuAgainstCpu,
+  ::testing::Values(Integrator::Euler, Integrator::Midpoint, Integrator::Verlet,
+    Integrator::EulerCromer),
+  [](const ::testing::TestParamInfo<Integrator>& param) {
+    std::string name = integratorName(param.param);
+    name.erase(std::remove(name.begin(), name.end(), '-'), name.end());
+    return name;
+  });
+
+TEST(MassSpring, TwoRunsAreBitwiseEqual)
+{
+  const BodyDescription body = smallBody();
+  const SceneSettings scene = busyScene(Integrator::Midpoint);
+  MAKE_GPU_OR_SKIP(first, body, scene);
+  MAKE_GPU_OR_SKIP(second, body, scene);
+  first->advance(0.05);
+  second->advance(0.05);
+  EXPECT_TRUE(bitwiseEqual(first->positions(), second->positions()));
+  EXPECT_TRUE(bitwiseEqual(first->velocities(), second->velocities()));
+}
+
+TEST(MassSpring, DownloadingBetweenFramesChangesNothing)
+{
+  const BodyDescription body = smallBody();
+  const SceneSettings scene = busyScene(Integrator::Verlet);
+  MAKE_GPU_OR_SKIP(framed, body, scene);
+  MAKE_GPU_OR_SKIP(straight, body, scene);
+  for (int frame = 1; frame <= 5; ++frame)
+  {
+    framed->advance(0.01 * frame);
+    (void)framed->state(); // downloads: the GPU state is not touched
+    straight->advance(0.01 * frame);
+  }
+  EXPECT_EQ(framed->stepCount(), straight->stepCount());
+  EXPECT_TRUE(bitwiseEqual(framed->positions(), straight->positions()));
+}
+
+TEST(MassSpring, ResumingFromASnapshotReproducesTheRunExactly)
+{
+  const BodyDescription body = smallBody();
+  const SceneSettings scene = busyScene(Integrator::EulerCromer);
+  MAKE_GPU_OR_SKIP(simulation, body, scene);
+  simulation->advance(0.02);
+  const DynamicState snapshot = simulation->state();
+  simulation->advance(0.04);
+  const DynamicState later = simulation->state();
+
+  simulation->restoreState(snapshot);
+  EXPECT_EQ(simulation->time(), snapshot.time);
+  EXPECT_TRUE(bitwiseEqual(simulation->positions(), snapshot.positions));
+  simulation->advance(0.04);
+  EXPECT_EQ(simulation->stepCount(), later.stepCount);
+  EXPECT_TRUE(bitwiseEqual(simulation->positions(), later.positions));
+  EXPECT_TRUE(bitwiseEqual(simulation->velocities(), later.velocities));
+
+  DynamicState wrong = snapshot;
+  wrong.positions.pop_back();
+  EXPECT_THROW(simulation->restoreState(wrong), InvalidInputError);
+}
+
+TEST(MassSpring, PinnedPointsNeverMove)
+{
+  const BodyDescription body = smallBody(/*pinTop=*/true);
+  SceneSettings scene = busyScene(Integrator::EulerCromer);
+  scene.floorEnabled = false;
+  MAKE_GPU_OR_SKIP(simulation, body, scene);
+  simulation->advance(0.05);
+  std::size_t pinned = 0;
+  for (std::size_t i = 0; i < body.pinned.size(); ++i)
+  {
+    if (body.pinned[i])
+    {
+      ++pinned;
+      ASSERT_EQ(simulation->positions()[i], body.mesh.points[i]);
+    }
+  }
+  EXPECT_GT(pinned, 0u);
+  EXPECT_GT(maxDifference(simulation->positions(), simulation->restPositions()), 1e-4); // it sags
+}
+
+TEST(MassSpring, PlanNamesTheSameStagesAsTheCpu)
+{
+  const BodyDescription body = smallBody();
+  const SceneSettings scene = busyScene(Integrator::Midpoint);
+  MAKE_GPU_OR_SKIP(gpuSimulation, body, scene);
+  MassSpringSimulation cpuSimulation(body, scene);
+  gpuSimulation->advance(0.01);
+  std::vector<std::string> expected = cpuSimulation.plan();
+  expected.push_back("transfers: host <-> GPU");
+  EXPECT_EQ(gpuSimulation->plan(), expected);
+  for (const StageTiming& timing : gpuSimulation->stageTimings())
+  {
+    EXPECT_GE(timing.seconds, 0.0) << timing.stage;
+  }
+  EXPECT_FALSE(gpuSimulation->glRenderer().empty());
+}
+
+TEST(MassSpring, BlowingUpThrowsWithTheTimeOfDivergence)
+{
+  const BodyDescription body = smallBody();
+  SceneSettings scene = busyScene(Integrator::EulerCromer);
+  scene.strainLimit = 0.0;
+  scene.timeStep = 2e-3; // far above the stable step
+  MAKE_GPU_OR_SKIP(simulation, body, scene);
+  MassSpringSimulation cpuSimulation(body, scene);
+  double gpuTime = -1.0, cpuTime = -2.0;
+  try
+  {
+    simulation->advance(1.0);
+  }
+  catch (const SimulationDivergedError& error)
+  {
+    gpuTime = error.time;
+  }
+  try
+  {
+    cpuSimulation.advance(1.0);
+  }
+  catch (const SimulationDivergedError& error)
+  {
+    cpuTime = error.time;
+  }
+  EXPECT_GT(gpuTime, 0.0);
+  EXPECT_EQ(gpuTime, cpuTime); // detected at the same check
+}
+
+TEST(MassSpring, InvalidInputIsRefusedAsOnTheCpu)
+{
+  BodyDescription body = smallBody();
+  body.pinned.assign(3, 1);
+  std::string whyNot;
+  EXPECT_THROW(gpu::tryCreateGpuMassSpring(body, busyScene(Integrator::Euler), whyNot),
+    InvalidInputError);
+}
