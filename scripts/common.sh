@@ -23,6 +23,7 @@ SOFTBODY_PACKAGES=(
   libdouble-conversion-dev libopenmpi-dev       # required by paraview-dev's CMake config
   libtbb-dev libeigen3-dev libtet1.5-dev        # core/: threads, linear algebra, TetGen
   libegl-dev libopengl-dev libgl-dev            # gpu/: headless EGL + OpenGL compute
+  libegl-mesa0 libgl1-mesa-dri                  # Mesa EGL + llvmpipe, so GPU tests run without a GPU
   libgtest-dev libbenchmark-dev                 # tests/unit, tests/bench
   xvfb xauth                                    # rendering (demo, tests) without a display
 )
