@@ -10,6 +10,7 @@
 // Usage: bench_gpu_mass_spring [--smoke] [--data <shared data dir>] [--csv <file>]
 // Exit code 77 (CTest skip) when no EGL / OpenGL 4.3 context can be made.
 #include "bench_meshes.h"
+#include "bench_options.h"
 
 #include "softbody/errors.h"
 #include "softbody/gpu/mass_spring_gpu_simulation.h"
@@ -28,41 +29,6 @@ using namespace softbody;
 
 namespace
 {
-
-struct Options
-{
-  bool smoke = false;
-  std::string dataDir = "../shared/data";
-  std::string csvPath = "bench_gpu_mass_spring.csv";
-};
-
-Options parse(int argc, char** argv)
-{
-  Options options;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string arg = argv[i];
-    if (arg == "--smoke")
-    {
-      options.smoke = true;
-    }
-    else if (arg == "--data" && i + 1 < argc)
-    {
-      options.dataDir = argv[++i];
-    }
-    else if (arg == "--csv" && i + 1 < argc)
-    {
-      options.csvPath = argv[++i];
-    }
-    else
-    {
-      std::cerr << "usage: bench_gpu_mass_spring [--smoke] [--data DIR] [--csv FILE]\n";
-      std::exit(2);
-    }
-  }
-  return options;
-}
-
 double secondsSince(std::chrono::steady_clock::time_point start)
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -145,14 +111,10 @@ Result measure(const TetMesh& mesh, Simulation& cpu, Simulation& gpu, bool smoke
 
 int main(int argc, char** argv)
 {
-  const Options options = parse(argc, argv);
-  std::vector<bench::NamedMesh> meshes = bench::generatedMeshes(options.smoke);
-  for (auto& m : bench::sharedMeshes(options.dataDir))
-  {
-    meshes.push_back(std::move(m));
-  }
+  const bench::Options options = bench::parseOptions(argc, argv, "bench_gpu_mass_spring", "bench_gpu_mass_spring.csv");
+  const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir);
 
-  std::ofstream csv(options.csvPath);
+  std::ofstream csv(options.csv);
   csv << "mesh,vertices,tets,steps,cpu_ms_per_step,gpu_ms_per_step,gpu_speedup,"
          "download_ms,max_relative_difference,bitwise_equal,gl_renderer\n";
   bool printedHeader = false;
@@ -222,6 +184,6 @@ int main(int argc, char** argv)
       return 1;
     }
   }
-  std::printf("\nCSV written to %s\n", options.csvPath.c_str());
+  std::printf("\nCSV written to %s\n", options.csv.c_str());
   return 0;
 }

@@ -101,11 +101,7 @@ int main(int argc, char** argv)
     std::printf("triad bandwidth, %d thread(s): %.2f GB/s\n", threads, bandwidth.back() / 1e9);
   }
 
-  std::vector<bench::NamedMesh> meshes = bench::generatedMeshes(options.smoke);
-  for (auto& m : bench::sharedMeshes(options.dataDir))
-  {
-    meshes.push_back(std::move(m));
-  }
+  const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir);
 
   std::ofstream csv(options.csv);
   csv << "mesh,vertices,edges,tets,threads,ms_per_step,tets_per_second,speedup,"

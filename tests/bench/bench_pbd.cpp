@@ -104,11 +104,7 @@ void throughput(const bench::Options& options, int maxThreads)
 {
   std::ofstream csv(options.csv + "_throughput.csv");
   csv << "mesh,tets,links,solver,threads,ms_per_iteration,projections_per_second_per_thread,speedup,state_hash\n";
-  std::vector<bench::NamedMesh> meshes = bench::generatedMeshes(options.smoke);
-  for (auto& m : bench::sharedMeshes(options.dataDir))
-  {
-    meshes.push_back(std::move(m));
-  }
+  const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir);
   std::printf("\nXPBD, 10 iterations per step, edges + tet volumes + floor\n");
   std::printf("%-22s %8s %8s %-22s %3s %12s %16s %8s\n", "mesh", "tets", "links", "solver", "thr",
     "ms/iter", "proj/s/thread", "speedup");
