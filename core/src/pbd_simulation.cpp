@@ -15,17 +15,6 @@ namespace softbody
 {
 namespace
 {
-enum Stage
-{
-  kPredict,
-  kSolve,
-  kResidual,
-  kVelocities,
-  kContacts,
-  kLinks,
-  kDivergenceCheck,
-  kStageCount
-};
 
 constexpr unsigned long long kDivergenceCheckInterval = 16;
 
@@ -297,86 +286,6 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   }
 }
 
-namespace
-{
-/// v[s] = old v[order[s]]: stores a batch array in the given order.
-template <typename T>
-void permute(std::vector<T>& v, const std::vector<std::int32_t>& order)
-{
-  if (v.empty())
-  {
-    return;
-  }
-  std::vector<T> sorted(order.size());
-  for (std::size_t s = 0; s < order.size(); ++s)
-  {
-    sorted[s] = v[static_cast<std::size_t>(order[s])];
-  }
-  v = std::move(sorted);
-}
-
-/// The inverse of an order: slot[original] = storage index.
-std::vector<std::int32_t> slotsOf(const std::vector<std::int32_t>& order)
-{
-  std::vector<std::int32_t> slot(order.size());
-  for (std::size_t s = 0; s < order.size(); ++s)
-  {
-    slot[static_cast<std::size_t>(order[s])] = static_cast<std::int32_t>(s);
-  }
-  return slot;
-}
-} // namespace
-
-void PbdSimulation::storeLinksAndVolumesByColor()
-{
-  // A color holds about one constraint in twenty: visited through an index list, every
-  // projection would pull whole cache lines of constraint data for one constraint, so each
-  // color would stream the batch from memory again. Stored color by color, a sweep streams it
-  // once. Outputs map back through LinkSlot / VolumeSlot.
-  const std::vector<std::int32_t> linkOrder = LinkSchedule.coloring.order;
-  permute(Links.ends, linkOrder);
-  permute(Links.originalRest, linkOrder);
-  permute(Links.rest, linkOrder);
-  permute(Links.stiffnessScale, linkOrder);
-  permute(Links.broken, linkOrder);
-  LinkSlot = slotsOf(linkOrder);
-  const std::vector<std::int32_t> tetOrder = VolumeSchedule.coloring.order;
-  permute(Volumes.tets, tetOrder);
-  permute(Volumes.restVolume, tetOrder);
-  permute(Volumes.broken, tetOrder);
-  VolumeSlot = slotsOf(tetOrder);
-  for (BatchSchedule* schedule : { &LinkSchedule, &VolumeSchedule })
-  {
-    std::iota(schedule->coloring.order.begin(), schedule->coloring.order.end(), 0);
-  }
-  if (TetEdges.rowCount() > 0)
-  {
-    // Rows follow the tets' new order; items name the links' new slots.
-    Csr sorted;
-    sorted.offsets.push_back(0);
-    for (std::int32_t original : tetOrder)
-    {
-      for (std::int32_t k = TetEdges.offsets[static_cast<std::size_t>(original)];
-           k < TetEdges.offsets[static_cast<std::size_t>(original) + 1]; ++k)
-      {
-        sorted.items.push_back(LinkSlot[static_cast<std::size_t>(TetEdges.items[static_cast<std::size_t>(k)])]);
-      }
-      sorted.offsets.push_back(static_cast<std::int32_t>(sorted.items.size()));
-    }
-    TetEdges = std::move(sorted);
-  }
-}
-
-bool PbdSimulation::linkBroken(std::size_t link) const
-{
-  return Links.broken[LinkSlot.empty() ? link : static_cast<std::size_t>(LinkSlot[link])] != 0;
-}
-
-bool PbdSimulation::tetBroken(std::size_t tet) const
-{
-  return Volumes.broken[VolumeSlot.empty() ? tet : static_cast<std::size_t>(VolumeSlot[tet])] != 0;
-}
-
 void PbdSimulation::restoreState(const DynamicState& snapshot)
 {
   if (snapshot.positions.size() != State.positions.size() ||
@@ -461,20 +370,6 @@ void PbdSimulation::predict(double h)
   std::fill(Attachments.lambda.begin(), Attachments.lambda.end(), 0.0);
 }
 
-void PbdSimulation::projectFloor()
-{
-  const FloorPlane& floor = Settings.floor;
-  parallelFor(Predicted.size(), 1024, [&](std::size_t i) {
-    const Projection<1> p =
-      projectPlane(Predicted[i], InverseMass[i], floor.origin, floor.normal, Settings.particleRadius);
-    if (p.dLambda != 0.0)
-    {
-      Predicted[i] += p.dx[0];
-      InContact[i] = 1;
-    }
-  });
-}
-
 void PbdSimulation::sweep()
 {
   std::vector<Vec3>& x = Predicted;
@@ -557,87 +452,6 @@ void PbdSimulation::updateVelocities(double h)
   parallelFor(State.positions.size(), 1024, [&](std::size_t i) {
     State.velocities[i] = (Predicted[i] - State.positions[i]) / h;
     State.positions[i] = Predicted[i];
-  });
-}
-
-void PbdSimulation::applyContactResponse(double h)
-{
-  ScopedStageTimer timer(StageSeconds[kContacts]);
-  const Vec3& n = Settings.floor.normal;
-  // Below this approach speed a contact is resting: bouncing it would make bodies jitter.
-  const double restingSpeed = 2.0 * Settings.gravity.norm() * h;
-  parallelFor(State.positions.size(), 1024, [&](std::size_t i) {
-    if (!InContact[i])
-    {
-      return;
-    }
-    Vec3& v = State.velocities[i];
-    const double incoming = VelocityBefore[i].dot(n); // < 0 when approaching
-    double normal = v.dot(n);
-    Vec3 tangential = v - normal * n;
-    if (incoming < -restingSpeed)
-    {
-      normal = std::max(normal, -Settings.restitution * incoming);
-    }
-    // Coulomb: the tangential speed drops by at most mu times the normal speed change.
-    const double normalChange = std::max(0.0, normal - incoming);
-    const double speed = tangential.norm();
-    if (speed > 0.0)
-    {
-      tangential *= std::max(0.0, 1.0 - Settings.friction * normalChange / speed);
-    }
-    v = tangential + normal * n;
-  });
-}
-
-void PbdSimulation::updateLinks(double h)
-{
-  ScopedStageTimer timer(StageSeconds[kLinks]);
-  const std::vector<Vec3>& x = State.positions;
-  const double breaking = Settings.breakingStrain;
-  const double yield = Settings.plasticYield;
-  const double flow = std::min(1.0, Settings.plasticCreep * h);
-  parallelFor(Links.size(), 1024, [&](std::size_t c) {
-    if (Links.broken[c])
-    {
-      return;
-    }
-    const double length = (x[Links.ends[c][0]] - x[Links.ends[c][1]]).norm();
-    if (yield > 0.0)
-    {
-      // Inside the yield band the link is elastic; past it the rest length creeps toward the
-      // length that would put it back on the band's edge.
-      const double excess = length - Links.rest[c];
-      const double band = yield * Links.rest[c];
-      if (std::abs(excess) > band)
-      {
-        Links.rest[c] += flow * (excess - std::copysign(band, excess));
-      }
-    }
-    if (breaking > 0.0 && std::abs(length - Links.originalRest[c]) > breaking * Links.originalRest[c])
-    {
-      Links.broken[c] = 1;
-    }
-  });
-  if (breaking > 0.0)
-  {
-    markBrokenTets();
-  }
-}
-
-void PbdSimulation::markBrokenTets()
-{
-  if (TetEdges.rowCount() == 0)
-  {
-    return;
-  }
-  parallelFor(Volumes.size(), 1024, [&](std::size_t t) {
-    unsigned char broken = 0;
-    for (std::int32_t k = TetEdges.offsets[t]; k < TetEdges.offsets[t + 1]; ++k)
-    {
-      broken |= Links.broken[static_cast<std::size_t>(TetEdges.items[static_cast<std::size_t>(k)])];
-    }
-    Volumes.broken[t] = broken;
   });
 }
 

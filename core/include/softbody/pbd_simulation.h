@@ -145,6 +145,19 @@ public:
   std::size_t colorCount() const; ///< colors of the link batch (parallel Gauss-Seidel)
 
 private:
+  /// Indices into StageSeconds, in step order (the timings are split over several .cpp files).
+  enum StageIndex
+  {
+    kPredict,
+    kSolve,
+    kResidual,
+    kVelocities,
+    kContacts,
+    kLinks,
+    kDivergenceCheck,
+    kStageCount
+  };
+
   void substep(double h, bool recordResiduals);
   void prepareParameters(double h);
   void predict(double h);
