@@ -22,6 +22,7 @@
 #include "softbody/lattice.h"
 #include "softbody/tetrahedralize.h" // checkClosedManifold
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -157,19 +158,51 @@ int vtkSoftBodyVoxelize::RequestData(
     return 0;
   }
 
+  // Tetrahedra keep only the particles of full cells (the others would be in no tet).
+  const bool tets = this->OutputCells == TETRAHEDRA;
+  std::vector<softbody::Tet> cells;
+  std::vector<vtkIdType> newIndex(lattice.points.size(), 0);
+  if (tets)
+  {
+    cells = softbody::latticeTets(lattice);
+    if (cells.empty())
+    {
+      vtkErrorMacro("No lattice cell lies fully inside the surface: choose a smaller Spacing (now "
+        << h << " m) or a larger Resolution.");
+      return 0;
+    }
+    std::fill(newIndex.begin(), newIndex.end(), -1);
+    for (const softbody::Tet& t : cells)
+    {
+      for (std::int32_t p : t)
+      {
+        newIndex[static_cast<std::size_t>(p)] = 0;
+      }
+    }
+  }
+  vtkIdType kept = 0;
+  for (vtkIdType& id : newIndex)
+  {
+    id = id < 0 ? -1 : kept++;
+  }
+
   auto outPoints = vtkSmartPointer<vtkPoints>::New();
   outPoints->SetDataTypeToDouble();
-  outPoints->SetNumberOfPoints(static_cast<vtkIdType>(lattice.points.size()));
+  outPoints->SetNumberOfPoints(kept);
   auto mass = vtkSmartPointer<vtkDoubleArray>::New();
   mass->SetName("Mass");
-  mass->SetNumberOfValues(static_cast<vtkIdType>(lattice.points.size()));
+  mass->SetNumberOfValues(kept);
   auto index = vtkSmartPointer<vtkIntArray>::New();
   index->SetName("LatticeIndex");
   index->SetNumberOfComponents(3);
-  index->SetNumberOfTuples(static_cast<vtkIdType>(lattice.points.size()));
+  index->SetNumberOfTuples(kept);
   for (std::size_t p = 0; p < lattice.points.size(); ++p)
   {
-    const auto id = static_cast<vtkIdType>(p);
+    const vtkIdType id = newIndex[p];
+    if (id < 0)
+    {
+      continue;
+    }
     outPoints->SetPoint(id, lattice.points[p].data());
     mass->SetValue(id, this->Density * h * h * h);
     for (int a = 0; a < 3; ++a)
@@ -178,27 +211,42 @@ int vtkSoftBodyVoxelize::RequestData(
     }
   }
   output->SetPoints(outPoints);
-  output->GetPointData()->AddArray(mass);
   output->GetPointData()->AddArray(index);
 
-  output->AllocateExact(static_cast<vtkIdType>(lattice.links.size()), 2 * static_cast<vtkIdType>(lattice.links.size()));
-  auto scale = vtkSmartPointer<vtkDoubleArray>::New();
-  scale->SetName("LinkStiffnessScale");
-  auto kind = vtkSmartPointer<vtkUnsignedCharArray>::New();
-  kind->SetName("LinkKind");
-  for (std::size_t l = 0; l < lattice.links.size(); ++l)
+  if (tets)
   {
-    if (lattice.linkKinds[l] != softbody::LatticeLinkKind::Axis && this->DiagonalStiffness == 0.0)
+    // Masses come from the Soft Body filter's Density over the tet volumes (a voxel mass
+    // would overweight the boundary particles, which carry only part of a voxel).
+    output->AllocateExact(static_cast<vtkIdType>(cells.size()), 4 * static_cast<vtkIdType>(cells.size()));
+    for (const softbody::Tet& t : cells)
     {
-      continue;
+      const vtkIdType ids[4] = { newIndex[std::size_t(t[0])], newIndex[std::size_t(t[1])],
+        newIndex[std::size_t(t[2])], newIndex[std::size_t(t[3])] };
+      output->InsertNextCell(VTK_TETRA, 4, ids);
     }
-    const vtkIdType ends[2] = { lattice.links[l][0], lattice.links[l][1] };
-    output->InsertNextCell(VTK_LINE, 2, ends);
-    scale->InsertNextValue(lattice.linkKinds[l] == softbody::LatticeLinkKind::Axis ? 1.0 : this->DiagonalStiffness);
-    kind->InsertNextValue(static_cast<unsigned char>(lattice.linkKinds[l]));
   }
-  output->GetCellData()->AddArray(scale);
-  output->GetCellData()->AddArray(kind);
+  else
+  {
+    output->GetPointData()->AddArray(mass);
+    output->AllocateExact(static_cast<vtkIdType>(lattice.links.size()), 2 * static_cast<vtkIdType>(lattice.links.size()));
+    auto scale = vtkSmartPointer<vtkDoubleArray>::New();
+    scale->SetName("LinkStiffnessScale");
+    auto kind = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    kind->SetName("LinkKind");
+    for (std::size_t l = 0; l < lattice.links.size(); ++l)
+    {
+      if (lattice.linkKinds[l] != softbody::LatticeLinkKind::Axis && this->DiagonalStiffness == 0.0)
+      {
+        continue;
+      }
+      const vtkIdType ends[2] = { lattice.links[l][0], lattice.links[l][1] };
+      output->InsertNextCell(VTK_LINE, 2, ends);
+      scale->InsertNextValue(lattice.linkKinds[l] == softbody::LatticeLinkKind::Axis ? 1.0 : this->DiagonalStiffness);
+      kind->InsertNextValue(static_cast<unsigned char>(lattice.linkKinds[l]));
+    }
+    output->GetCellData()->AddArray(scale);
+    output->GetCellData()->AddArray(kind);
+  }
 
   auto origin = vtkSmartPointer<vtkDoubleArray>::New();
   origin->SetName("LatticeOrigin");
@@ -231,4 +279,5 @@ void vtkSoftBodyVoxelize::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Resolution: " << this->Resolution << "\n";
   os << indent << "DiagonalStiffness: " << this->DiagonalStiffness << "\n";
   os << indent << "Density: " << this->Density << "\n";
+  os << indent << "OutputCells: " << this->OutputCells << "\n";
 }

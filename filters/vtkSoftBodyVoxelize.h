@@ -10,12 +10,18 @@
  * and body diagonals at DiagonalStiffness times the link stiffness. Built in time linear in the
  * grid size (no all-pairs neighbor search).
  *
- * Output: a vtkUnstructuredGrid of VTK_LINE cells, one per link, so it composes with the Soft
+ * Output (OutputCells = LINKS, the default): a vtkUnstructuredGrid of VTK_LINE cells, one per link, so it composes with the Soft
  * Body filter (links) and with every ParaView filter that takes a grid; cell arrays
  * "LinkStiffnessScale" and "LinkKind" (0 axis, 1 face diagonal, 2 body diagonal); point arrays
  * "Mass" (Density h^3) and "LatticeIndex" (i, j, k); field data "LatticeOrigin",
  * "LatticeSpacing", "LatticeDimensions" and "ParticleRadius" (h / 2), which let the Soft Body
  * filter skin a surface onto the lattice with trilinear weights.
+ *
+ * OutputCells = TETRAHEDRA instead splits every full lattice cell (8 particle corners) into its
+ * 6 Kuhn tets (conforming, positively oriented) and keeps only the particles of those cells:
+ * a tet mesh every Soft Body method takes, Mass-Spring and the GPU included, with masses from
+ * the Soft Body filter's Density. LatticeIndex and the field data stay, so skinning still uses
+ * the lattice.
  */
 #ifndef vtkSoftBodyVoxelize_h
 #define vtkSoftBodyVoxelize_h
@@ -29,6 +35,14 @@ public:
   static vtkSoftBodyVoxelize* New();
   vtkTypeMacro(vtkSoftBodyVoxelize, vtkUnstructuredGridAlgorithm)
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum OutputCellsType
+  {
+    LINKS = 0,
+    TETRAHEDRA = 1
+  };
+  vtkSetClampMacro(OutputCells, int, LINKS, TETRAHEDRA);
+  vtkGetMacro(OutputCells, int);
 
   /// Lattice spacing h [m]; 0 = the bounding box's longest side / Resolution.
   vtkSetClampMacro(Spacing, double, 0.0, VTK_DOUBLE_MAX);
@@ -55,6 +69,7 @@ protected:
   int Resolution = 20;
   double DiagonalStiffness = 1.0;
   double Density = 1000.0;
+  int OutputCells = LINKS;
 
 private:
   vtkSoftBodyVoxelize(const vtkSoftBodyVoxelize&) = delete;

@@ -1,9 +1,11 @@
 #include "softbody/lattice.h"
 
 #include "softbody/errors.h"
+#include "softbody/mesh_generators.h" // kuhnCubeTets
 
 #include <cstdlib>
 #include <limits>
+#include <utility>
 
 namespace softbody
 {
@@ -80,6 +82,49 @@ Lattice buildLattice(const LatticeGrid& grid, const std::vector<char>& inside)
     }
   }
   return lattice;
+}
+
+std::vector<Tet> latticeTets(const Lattice& lattice)
+{
+  const LatticeGrid& grid = lattice.grid;
+  const auto kuhn = kuhnCubeTets();
+  std::vector<Tet> tets;
+  for (int k = 0; k + 1 < grid.nodes[2]; ++k)
+  {
+    for (int j = 0; j + 1 < grid.nodes[1]; ++j)
+    {
+      for (int i = 0; i + 1 < grid.nodes[0]; ++i)
+      {
+        auto particle = [&](const std::array<int, 3>& c) {
+          return lattice.particleOfNode[grid.nodeIndex(i + c[0], j + c[1], k + c[2])];
+        };
+        bool full = true;
+        for (int c = 0; c < 8 && full; ++c)
+        {
+          full = particle({ c & 1, (c >> 1) & 1, (c >> 2) & 1 }) >= 0;
+        }
+        if (!full)
+        {
+          continue;
+        }
+        for (const auto& corners : kuhn)
+        {
+          Tet tet;
+          for (std::size_t c = 0; c < 4; ++c)
+          {
+            tet[c] = particle(corners[c]);
+          }
+          const auto& p = lattice.points;
+          if (signedTetVolume(p[std::size_t(tet[0])], p[std::size_t(tet[1])], p[std::size_t(tet[2])], p[std::size_t(tet[3])]) < 0.0)
+          {
+            std::swap(tet[2], tet[3]);
+          }
+          tets.push_back(tet);
+        }
+      }
+    }
+  }
+  return tets;
 }
 
 } // namespace softbody

@@ -8,6 +8,23 @@
 namespace softbody
 {
 
+std::array<std::array<std::array<int, 3>, 4>, 6> kuhnCubeTets()
+{
+  std::array<std::array<std::array<int, 3>, 4>, 6> tets{};
+  std::array<int, 3> axes{ 0, 1, 2 };
+  std::size_t t = 0;
+  do
+  {
+    auto& corners = tets[t++];
+    for (int c = 1; c < 4; ++c)
+    {
+      corners[std::size_t(c)] = corners[std::size_t(c - 1)];
+      corners[std::size_t(c)][std::size_t(axes[std::size_t(c - 1)])] = 1;
+    }
+  } while (std::next_permutation(axes.begin(), axes.end()));
+  return tets;
+}
+
 TetMesh makeTetBox(int nx, int ny, int nz, double cellSize, const Vec3& origin)
 {
   if (nx < 1 || ny < 1 || nz < 1 || !(cellSize > 0.0))
@@ -26,19 +43,7 @@ TetMesh makeTetBox(int nx, int ny, int nz, double cellSize, const Vec3& origin)
       }
     }
   }
-  // Each of the 6 axis orders walks from corner (0,0,0) to (1,1,1) one axis at a time.
-  std::array<int, 3> axes{ 0, 1, 2 };
-  std::vector<std::array<std::array<int, 3>, 4>> kuhnTets;
-  do
-  {
-    std::array<std::array<int, 3>, 4> corners{};
-    for (int c = 1; c < 4; ++c)
-    {
-      corners[c] = corners[c - 1];
-      corners[c][axes[c - 1]] = 1;
-    }
-    kuhnTets.push_back(corners);
-  } while (std::next_permutation(axes.begin(), axes.end()));
+  const auto kuhnTets = kuhnCubeTets();
 
   for (int k = 0; k < nz; ++k)
   {

@@ -158,6 +158,47 @@ int main()
     "an open surface is refused: " << catcher->AllErrors());
   catcher->Delete();
 
+  // Tetrahedra output: a conforming tet mesh Mass-Spring simulates (and skinning still binds
+  // to the lattice).
+  {
+    vtkNew<vtkSoftBodyVoxelize> toTets;
+    toTets->SetInputData(surface);
+    toTets->SetSpacing(0.1);
+    toTets->SetOutputCells(vtkSoftBodyVoxelize::TETRAHEDRA);
+    toTets->Update();
+    vtkNew<vtkUnstructuredGrid> solid;
+    solid->DeepCopy(toTets->GetOutput());
+    SB_CHECK(solid->GetNumberOfCells() > 0 && solid->GetNumberOfCells() % 6 == 0, "6 tets per full voxel");
+    double tetVolume = 0.0;
+    for (vtkIdType c = 0; c < solid->GetNumberOfCells(); ++c)
+    {
+      SB_CHECK(solid->GetCellType(c) == VTK_TETRA, "cell " << c << " is a tet");
+      const vtkIdType* ids = nullptr;
+      vtkIdType npts = 0;
+      solid->GetCellPoints(c, npts, ids);
+      double p[4][3];
+      for (int k = 0; k < 4; ++k)
+      {
+        solid->GetPoint(ids[k], p[k]);
+      }
+      tetVolume += sbtest::TetVolume(p[0], p[1], p[2], p[3]);
+    }
+    SB_CHECK(tetVolume > 0.5 * volume && tetVolume < volume, "voxel tets fill the inside ("
+      << tetVolume << " of " << volume << " m^3)");
+    sbtest::CapturedFilter f(solid);
+    vtkNew<vtkPolyData> skin;
+    skin->DeepCopy(surface);
+    f.Filter->SetInputData(1, skin);
+    f.Filter->SetEndTime(0.2);
+    f.Filter->SetFrameInterval(0.1);
+    f.Filter->SetFloor(0);
+    SB_CHECK(f.Update(0.2), "Mass-Spring on the voxel tets: " << f.Messages->AllErrors());
+    vtkPolyData* skinned = vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(3));
+    SB_CHECK(skinned && skinned->GetNumberOfPoints() == surface->GetNumberOfPoints(), "skinned surface");
+    const double drop = f.Mesh()->GetPointData()->GetArray("Displacement")->GetTuple3(0)[2];
+    SB_CHECK(std::abs(drop + 0.5 * 9.81 * 0.04) < 0.02, "it falls about g t^2 / 2 (" << drop << " m)");
+  }
+
   // Skinning onto the lattice and onto a tet mesh of the same sphere.
   vtkNew<vtkUnstructuredGrid> latticeCopy;
   latticeCopy->DeepCopy(lattice);

@@ -10,7 +10,9 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace softbody
 {
@@ -61,6 +63,50 @@ TEST(Lattice, FullBoxHasTheAnalyticLinkCounts)
   EXPECT_EQ(degree[grid.nodeIndex(2, 2, 2)], 26);
   EXPECT_EQ(degree[grid.nodeIndex(0, 0, 0)], 7);
   EXPECT_EQ(degree[grid.nodeIndex(2, 0, 0)], 11);
+}
+
+TEST(Lattice, FullCellsSplitIntoConformingPositiveKuhnTets)
+{
+  const double r = 0.5, h = 0.1;
+  const Lattice lattice = latticeOf(gridAround(0.6, h), [&](const Vec3& p) { return p.norm() < r; });
+  const std::vector<Tet> tets = latticeTets(lattice);
+  ASSERT_FALSE(tets.empty());
+  EXPECT_EQ(tets.size() % 6, 0u);
+  double volume = 0.0;
+  for (const Tet& t : tets)
+  {
+    const double v = signedTetVolume(lattice.points[std::size_t(t[0])], lattice.points[std::size_t(t[1])],
+      lattice.points[std::size_t(t[2])], lattice.points[std::size_t(t[3])]);
+    EXPECT_NEAR(v, h * h * h / 6.0, 1e-15);
+    volume += v;
+  }
+  EXPECT_NEAR(volume, double(tets.size() / 6) * h * h * h, 1e-12);
+  // Conforming: every face is shared by at most two tets, and interior faces by exactly two.
+  std::map<std::array<std::int32_t, 3>, int> faces;
+  for (const Tet& t : tets)
+  {
+    for (int skip = 0; skip < 4; ++skip)
+    {
+      std::array<std::int32_t, 3> f{};
+      for (int c = 0, n = 0; c < 4; ++c)
+      {
+        if (c != skip)
+        {
+          f[std::size_t(n++)] = t[std::size_t(c)];
+        }
+      }
+      std::sort(f.begin(), f.end());
+      ++faces[f];
+    }
+  }
+  for (const auto& [face, count] : faces)
+  {
+    EXPECT_LE(count, 2);
+  }
+  TetMesh mesh{ lattice.points, tets };
+  const TetMeshReport report = inspectTetMesh(mesh);
+  EXPECT_EQ(report.invertedTets, 0u);
+  EXPECT_EQ(report.degenerateTets, 0u);
 }
 
 TEST(Lattice, VoxelizedSphereHasTheExpectedParticleCount)

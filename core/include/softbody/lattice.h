@@ -48,4 +48,9 @@ struct Lattice
 /// `inside[grid.nodeIndex(i, j, k)]` nonzero marks the nodes that become particles.
 Lattice buildLattice(const LatticeGrid& grid, const std::vector<char>& inside);
 
+/// The lattice as a tet mesh: every full cell (all 8 corners are particles) split into its 6
+/// Kuhn tets, positively oriented, conforming between cells. Particles of no full cell are in no
+/// tet.
+std::vector<Tet> latticeTets(const Lattice& lattice);
+
 } // namespace softbody
