@@ -468,7 +468,7 @@ bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input)
     this->PBDLinkStiffness, this->PBDVolumeStiffness, this->PBDPinStiffness,
     this->XPBDLinkCompliance, this->XPBDVolumeCompliance, this->XPBDPinCompliance,
     this->BreakingStrain, this->PlasticYield, this->PlasticCreep, this->Friction,
-    this->Restitution, this->VelocityDamping, double(this->Device) };
+    this->Restitution, this->VelocityDamping, double(this->Device), double(this->XPBDMaterial) };
   const std::string pinned =
     vtkSoftBodyInputConversion::IsNoArray(this->PinnedPointsArray) ? "" : this->PinnedPointsArray;
   if (internals.Simulation && internals.Input == input &&
@@ -816,6 +816,7 @@ void vtkSoftBodyFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "XPBDLinkCompliance: " << this->XPBDLinkCompliance << "\n";
   os << indent << "XPBDVolumeCompliance: " << this->XPBDVolumeCompliance << "\n";
   os << indent << "XPBDPinCompliance: " << this->XPBDPinCompliance << "\n";
+  os << indent << "XPBDMaterial: " << this->XPBDMaterial << "\n";
   os << indent << "BreakingStrain: " << this->BreakingStrain << "\n";
   os << indent << "PlasticYield: " << this->PlasticYield << "\n";
   os << indent << "PlasticCreep: " << this->PlasticCreep << "\n";

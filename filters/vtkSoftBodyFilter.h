@@ -59,6 +59,11 @@ public:
     PBD = 1,
     XPBD = 2
   };
+  enum XPBDMaterialType
+  {
+    XPBD_COMPLIANCES = 0,    ///< the XPBD*Compliance properties, uniform per constraint type
+    XPBD_YOUNGS_MODULUS = 1  ///< per-element compliances from YoungsModulus and PoissonRatio
+  };
   enum SolverType
   {
     GAUSS_SEIDEL = 0,
@@ -152,6 +157,13 @@ public:
   vtkGetMacro(XPBDVolumeCompliance, double);
   vtkSetClampMacro(XPBDPinCompliance, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(XPBDPinCompliance, double);
+  /**
+   * XPBD_COMPLIANCES (default) uses the compliances above; XPBD_YOUNGS_MODULUS derives each tet
+   * edge's and tet's compliance from YoungsModulus and PoissonRatio exactly as Mass-Spring
+   * derives its stiffnesses, so both methods rest where the same elastic energy is minimal.
+   */
+  vtkSetClampMacro(XPBDMaterial, int, XPBD_COMPLIANCES, XPBD_YOUNGS_MODULUS);
+  vtkGetMacro(XPBDMaterial, int);
   ///@}
 
   ///@{
@@ -379,6 +391,7 @@ protected:
   double XPBDLinkCompliance = 1.0e-4;
   double XPBDVolumeCompliance = 1.0e-10;
   double XPBDPinCompliance = 0.0;
+  int XPBDMaterial = XPBD_COMPLIANCES;
   double BreakingStrain = 0.0;
   double PlasticYield = 0.0;
   double PlasticCreep = 0.0;

@@ -59,6 +59,9 @@ softbody::PbdSettings MakeSettings(vtkSoftBodyFilter& f)
   s.links = { f.GetPBDLinkStiffness(), f.GetXPBDLinkCompliance() };
   s.volumes = { f.GetPBDVolumeStiffness(), f.GetXPBDVolumeCompliance() };
   s.attachments = { f.GetPBDPinStiffness(), f.GetXPBDPinCompliance() };
+  s.elasticity.enabled = f.GetXPBDMaterial() == vtkSoftBodyFilter::XPBD_YOUNGS_MODULUS;
+  s.elasticity.youngsModulus = f.GetYoungsModulus();
+  s.elasticity.poissonRatio = f.GetPoissonRatio();
   s.breakingStrain = f.GetBreakingStrain();
   s.plasticYield = f.GetPlasticYield();
   s.plasticCreep = f.GetPlasticCreep();

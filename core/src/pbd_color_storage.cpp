@@ -53,11 +53,13 @@ void PbdSimulation::storeLinksAndVolumesByColor()
   permute(Links.originalRest, linkOrder);
   permute(Links.rest, linkOrder);
   permute(Links.stiffnessScale, linkOrder);
+  permute(Links.compliance, linkOrder);
   permute(Links.broken, linkOrder);
   LinkSlot = slotsOf(linkOrder);
   const std::vector<std::int32_t> tetOrder = VolumeSchedule.coloring.order;
   permute(Volumes.tets, tetOrder);
   permute(Volumes.restVolume, tetOrder);
+  permute(Volumes.compliance, tetOrder);
   permute(Volumes.broken, tetOrder);
   VolumeSlot = slotsOf(tetOrder);
   for (BatchSchedule* schedule : { &LinkSchedule, &VolumeSchedule })

@@ -2,12 +2,14 @@
 
 #include "softbody/errors.h"
 #include "softbody/mass.h"
+#include "softbody/material.h"
 #include "softbody/parallel.h"
 #include "softbody/stepping.h"
 #include "softbody/topology.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -183,6 +185,10 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   }
   Volumes.broken.assign(Volumes.size(), 0);
   Volumes.lambda.assign(Volumes.size(), 0.0);
+  if (Settings.elasticity.enabled && Settings.formulation == PbdFormulation::Xpbd && !Volumes.tets.empty())
+  {
+    setComplianceFromElasticity(topology, body.points);
+  }
 
   // Masses: given per point, or density times the tet volumes.
   std::vector<double> mass;
@@ -286,6 +292,29 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   }
 }
 
+void PbdSimulation::setComplianceFromElasticity(const Topology& topology, const std::vector<Vec3>& rest)
+{
+  MaterialSettings material;
+  material.mode = MaterialMode::Physical;
+  material.physical.youngsModulus = Settings.elasticity.youngsModulus;
+  material.physical.poissonRatio = Settings.elasticity.poissonRatio;
+  material.physical.dampingTime = 0.0;
+  // The mass-spring constants are k / l0^2 [N/m] per edge and k_V / V0^2 per tet: exactly the
+  // stiffness of C = l - l0 and C = V - V0, so the compliances are their inverses.
+  const ElementConstants constants = computeElementConstants(topology, rest, material, Warnings);
+  Links.compliance.assign(Links.size(), Settings.links.compliance);
+  for (std::size_t e = 0; e < ExplicitLinkOffset; ++e)
+  {
+    Links.compliance[e] = 1.0 / constants.springStiffness[e];
+  }
+  Volumes.compliance.resize(Volumes.size());
+  for (std::size_t t = 0; t < Volumes.size(); ++t)
+  {
+    const double k = constants.volumeStiffness[t];
+    Volumes.compliance[t] = k > 0.0 ? 1.0 / k : std::numeric_limits<double>::infinity();
+  }
+}
+
 void PbdSimulation::restoreState(const DynamicState& snapshot)
 {
   if (snapshot.positions.size() != State.positions.size() ||
@@ -312,12 +341,15 @@ void PbdSimulation::prepareParameters(double h)
   // SOR scales each projection; Jacobi applies its relaxation when averaging instead.
   const double relaxation = Settings.solver == PbdSolver::Jacobi ? 1.0 : Settings.relaxation;
   const bool xpbd = Settings.formulation == PbdFormulation::Xpbd;
-  auto parameters = [&](const ConstraintMaterial& material, double factor) {
+  auto parameters = [&](const ConstraintMaterial& material, double factor, double compliance = -1.0) {
     ProjectionParameters p;
     if (xpbd)
     {
-      p.scale = relaxation;
-      p.alphaTilde = material.compliance / factor / (h * h);
+      // A per-element compliance (from elasticity) replaces the batch's; an infinite one is a
+      // constraint of zero stiffness.
+      const double alpha = compliance >= 0.0 ? compliance : material.compliance / factor;
+      p.scale = std::isinf(alpha) ? 0.0 : relaxation;
+      p.alphaTilde = std::isinf(alpha) ? 0.0 : alpha / (h * h);
     }
     else
     {
@@ -329,9 +361,14 @@ void PbdSimulation::prepareParameters(double h)
   Links.params.resize(Links.size());
   for (std::size_t c = 0; c < Links.size(); ++c)
   {
-    Links.params[c] = parameters(Settings.links, Links.stiffnessScale[c]);
+    Links.params[c] = parameters(Settings.links, Links.stiffnessScale[c],
+      Links.compliance.empty() ? -1.0 : Links.compliance[c]);
   }
-  Volumes.params.assign(Volumes.size(), parameters(Settings.volumes, 1.0));
+  Volumes.params.resize(Volumes.size());
+  for (std::size_t t = 0; t < Volumes.size(); ++t)
+  {
+    Volumes.params[t] = parameters(Settings.volumes, 1.0, Volumes.compliance.empty() ? -1.0 : Volumes.compliance[t]);
+  }
   Attachments.params.assign(Attachments.size(), parameters(Settings.attachments, 1.0));
 }
 

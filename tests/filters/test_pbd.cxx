@@ -173,6 +173,38 @@ int main()
     SB_CHECK(std::abs(length - std::sqrt(3 * 0.04)) < 1e-3, "the brace keeps its length (" << length << ")");
   }
 
+  // --- XPBD from Young's modulus: a bar hanging from its top sags about 4x more at E / 4.
+  {
+    auto bar = sbtest::MakeTetBox(2, 2, 8, 0.025, { 0.0, 0.0, 1.0 });
+    vtkNew<vtkIntArray> top;
+    top->SetName("Top");
+    top->SetNumberOfTuples(bar->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < bar->GetNumberOfPoints(); ++i)
+    {
+      top->SetValue(i, bar->GetPoint(i)[2] > 1.2 - 1e-6 ? 1 : 0);
+    }
+    bar->GetPointData()->AddArray(top);
+    double sag[2] = { 0.0, 0.0 };
+    for (int k = 0; k < 2; ++k)
+    {
+      sbtest::CapturedFilter f(bar);
+      f.Filter->SetMethod(vtkSoftBodyFilter::XPBD);
+      f.Filter->SetXPBDMaterial(vtkSoftBodyFilter::XPBD_YOUNGS_MODULUS);
+      f.Filter->SetYoungsModulus(k == 0 ? 2.0e5 : 5.0e4);
+      f.Filter->SetPinnedPointsArray("Top");
+      f.Filter->SetIterations(20);
+      f.Filter->SetSubsteps(4);
+      f.Filter->SetVelocityDamping(10.0);
+      f.Filter->SetFloor(0);
+      f.Filter->SetEndTime(2.0);
+      f.Filter->SetFrameInterval(1.0);
+      SB_CHECK(f.Update(2.0), f.Messages->AllErrors());
+      sag[k] = 1.0 - f.Mesh()->GetPoint(0)[2];
+    }
+    SB_CHECK(sag[0] > 1e-4 && std::abs(sag[1] / sag[0] - 4.0) < 0.4,
+      "sag " << sag[0] << " m at 2e5 Pa, " << sag[1] << " m at 5e4 Pa (ratio " << sag[1] / sag[0] << ")");
+  }
+
   // --- Inputs PBD refuses, with a message that says why.
   {
     sbtest::CapturedFilter f(cloth);

@@ -2,6 +2,7 @@
 // comparisons of the PBD thesis, determinism across thread counts, breaking and plasticity.
 #include "softbody/cloth.h"
 #include "softbody/errors.h"
+#include "softbody/mass_spring_simulation.h"
 #include "softbody/mesh_generators.h"
 #include "softbody/pbd_simulation.h"
 
@@ -437,5 +438,53 @@ TEST(PbdSimulation, BadSettingsAndBodiesAreRefused)
   EXPECT_THROW(PbdSimulation(nothing, good), InvalidInputError);
 }
 
+} // namespace
+} // namespace softbody
+
+namespace softbody
+{
+namespace
+{
+// XPBD with compliances from Young's modulus minimizes the mass-spring model's own elastic
+// energy: a bar hanging from its top face must come to rest where the mass-spring bar does.
+TEST(PbdSimulation, XpbdFromElasticityRestsWhereMassSpringRests)
+{
+  const TetMesh bar = makeTetBox(2, 2, 8, 0.025, Vec3(0, 0, 1.0));
+  std::vector<char> top(bar.points.size(), 0);
+  for (std::size_t i = 0; i < bar.points.size(); ++i)
+  {
+    top[i] = bar.points[i].z() > 1.2 - 1e-9;
+  }
+  const double E = 5.0e4, nu = 0.35, rho = 1000.0;
+
+  BodyDescription springs;
+  springs.mesh = bar;
+  springs.pinned = top;
+  springs.material.physical = { E, nu, rho, 5.0e-3 };
+  MassSpringSimulation massSpring(springs, SceneSettings{});
+  massSpring.advance(3.0);
+
+  PbdBody particles;
+  particles.points = bar.points;
+  particles.tets = bar.tets;
+  particles.pinned = top;
+  particles.density = rho;
+  PbdSettings settings;
+  settings.elasticity = { true, E, nu };
+  settings.iterations = 20;
+  settings.substeps = 4;
+  settings.damping = 10.0;
+  PbdSimulation xpbd(particles, settings);
+  xpbd.advance(3.0);
+
+  // The lowest point's sag: rho g L^2 / (2 E) ~ 4 mm for this bar.
+  const std::size_t tip = 0; // (0, 0, 0) corner at the bottom
+  const double sagSprings = bar.points[tip].z() - massSpring.positions()[tip].z();
+  const double sagXpbd = bar.points[tip].z() - xpbd.positions()[tip].z();
+  std::printf("tip sag: mass-spring %.6f m, XPBD from elasticity %.6f m, rho g L^2 / 2E = %.6f m\n",
+    sagSprings, sagXpbd, rho * 9.81 * 0.2 * 0.2 / (2 * E));
+  EXPECT_GT(sagSprings, 1e-3);
+  EXPECT_NEAR(sagXpbd / sagSprings, 1.0, 0.03);
+}
 } // namespace
 } // namespace softbody

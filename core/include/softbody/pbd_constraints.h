@@ -26,6 +26,7 @@ struct DistanceBatch
   std::vector<double> originalRest;   ///< rest length at t = 0 [m]
   std::vector<double> rest;           ///< current rest length [m] (plastic flow changes it)
   std::vector<double> stiffnessScale; ///< per-link factor on the batch stiffness (cloth diagonals)
+  std::vector<double> compliance;     ///< XPBD from elasticity: per-link alpha [m/N]; else empty
   std::vector<unsigned char> broken;
   DistanceKind kind = DistanceKind::Equality;
   std::vector<double> lambda;
@@ -47,6 +48,7 @@ struct VolumeBatch
   static constexpr int Arity = 4;
   std::vector<Tet> tets;
   std::vector<double> restVolume; ///< [m^3], positive (tets are oriented positively)
+  std::vector<double> compliance; ///< XPBD from elasticity: per-tet alpha [m^3/Pa] (inf: none)
   std::vector<unsigned char> broken; ///< a tet with a broken edge no longer holds its volume
   std::vector<double> lambda;
   std::vector<ProjectionParameters> params;

@@ -47,6 +47,11 @@ namespace detail
 inline double lagrangeStep(double C, double weightedGradient2, double lambda,
   const ProjectionParameters& p, double& residual)
 {
+  if (p.scale == 0.0)
+  {
+    residual = 0.0; // a constraint of zero stiffness asks for nothing
+    return 0.0;
+  }
   residual = C + p.alphaTilde * lambda;
   const double denominator = weightedGradient2 + p.alphaTilde;
   if (!(denominator > 0.0))

@@ -9,6 +9,7 @@
 #include "softbody/pbd_solvers.h"
 #include "softbody/simulation.h"
 #include "softbody/tet_mesh.h"
+#include "softbody/topology.h"
 
 #include <array>
 #include <string>
@@ -70,6 +71,17 @@ struct PbdSettings
   ConstraintMaterial links;       ///< distance: compliance in m/N
   ConstraintMaterial volumes;     ///< tet volume (C = V - V0 in m^3): compliance in m^3/Pa
   ConstraintMaterial attachments; ///< soft pins: compliance in m/N
+
+  /// XPBD only: derive every tet edge's and tet's compliance from Young's modulus and Poisson's
+  /// ratio, as the mass-spring model derives its stiffnesses (k_D = 15 mu V_e, k_V = (lambda -
+  /// mu) V_t, material.h), so both methods minimize the same elastic energy and a converged
+  /// XPBD body rests where the mass-spring one does. Explicit links keep `links.compliance`.
+  struct Elasticity
+  {
+    bool enabled = false;
+    double youngsModulus = 1.0e5; ///< [Pa]
+    double poissonRatio = 0.3;
+  } elasticity;
 
   /// A link breaks when |l - l0| / l0 (l0 its original rest length) passes this; 0 = unbreakable.
   double breakingStrain = 0.0;
@@ -170,6 +182,7 @@ private:
   void updateLinks(double h);
   void markBrokenTets();
   void storeLinksAndVolumesByColor();
+  void setComplianceFromElasticity(const Topology& topology, const std::vector<Vec3>& rest);
   void checkDivergence() const;
 
   PbdSettings Settings;
