@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <thread>
 
 vtkStandardNewMacro(vtkSoftBodyVoxelize);
 
@@ -110,16 +111,8 @@ int vtkSoftBodyVoxelize::RequestData(
   // distance |d| from the surface shares its side with every node closer than |d| along its
   // row: those are skipped without evaluating (the same flags as evaluating every node, at a
   // fraction of the cost: only the rows' ends and the band around the surface are evaluated).
-  vtkNew<vtkImplicitPolyDataDistance> distance;
-  distance->SetInput(triangles);
   std::vector<char> inside(grid.nodeCount(), 0);
-  for (int k = 0; k < grid.nodes[2]; ++k)
-  {
-    this->UpdateProgress(0.9 * k / grid.nodes[2]);
-    if (this->CheckAbort())
-    {
-      return 1;
-    }
+  auto classifySlice = [&](vtkImplicitPolyDataDistance* distance, int k) {
     for (int j = 0; j < grid.nodes[1]; ++j)
     {
       int i = 0;
@@ -138,6 +131,46 @@ int vtkSoftBodyVoxelize::RequestData(
         }
         i = end;
       }
+    }
+  };
+  // One distance object per thread (each owns its copy of the surface and its cell locator,
+  // which is not safe to share), made here on the calling thread. Threads take whole slices,
+  // so no two write the same flag; slices go in blocks so progress and abort are handled
+  // between blocks, on this thread, as VTK requires.
+  const int threads = static_cast<int>(std::max(1u, std::min(std::thread::hardware_concurrency(), 64u)));
+  std::vector<vtkSmartPointer<vtkImplicitPolyDataDistance>> distances;
+  for (int t = 0; t < std::min(threads, grid.nodes[2]); ++t)
+  {
+    distances.push_back(vtkSmartPointer<vtkImplicitPolyDataDistance>::New());
+    distances.back()->SetInput(triangles);
+  }
+  const int workers = static_cast<int>(distances.size());
+  const int block = std::max(workers, grid.nodes[2] / 20);
+  for (int first = 0; first < grid.nodes[2]; first += block)
+  {
+    this->UpdateProgress(0.9 * first / grid.nodes[2]);
+    if (this->CheckAbort())
+    {
+      return 1;
+    }
+    const int last = std::min(grid.nodes[2], first + block);
+    std::vector<std::thread> pool;
+    for (int w = 1; w < workers; ++w)
+    {
+      pool.emplace_back([&, w] {
+        for (int k = first + w; k < last; k += workers)
+        {
+          classifySlice(distances[static_cast<std::size_t>(w)], k);
+        }
+      });
+    }
+    for (int k = first; k < last; k += workers)
+    {
+      classifySlice(distances[0], k);
+    }
+    for (std::thread& worker : pool)
+    {
+      worker.join();
     }
   }
 
