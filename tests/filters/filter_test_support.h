@@ -49,6 +49,13 @@ inline int& FailureCount()
     }                                                                                              \
   } while (false)
 
+/// The first value of a string field-data array, or "(missing)".
+inline std::string FieldString(vtkDataObject* data, const char* name)
+{
+  auto* array = vtkStringArray::SafeDownCast(data->GetFieldData()->GetAbstractArray(name));
+  return array && array->GetNumberOfValues() > 0 ? array->GetValue(0) : std::string("(missing)");
+}
+
 /// Exit code for main(): 0 when every check passed.
 inline int Result(const char* testName)
 {

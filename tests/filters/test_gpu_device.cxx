@@ -3,17 +3,6 @@
 // replays cached frames without stepping. Returns 77 (CTest skip) where no GPU context exists.
 #include "filter_test_support.h"
 
-namespace
-{
-
-std::string FieldString(vtkUnstructuredGrid* mesh, const char* name)
-{
-  auto* array = vtkStringArray::SafeDownCast(mesh->GetFieldData()->GetAbstractArray(name));
-  return array && array->GetNumberOfValues() > 0 ? array->GetValue(0) : std::string("(missing)");
-}
-
-} // namespace
-
 int main()
 {
   auto box = sbtest::MakeTetBox(5, 4, 3, 0.02, { 0.0, 0.0, 0.01 });
@@ -29,18 +18,18 @@ int main()
   gpu.Filter->SetDevice(vtkSoftBodyFilter::DEVICE_GPU_EGL);
 
   SB_CHECK(gpu.Update(0.1), gpu.Messages->AllErrors());
-  if (FieldString(gpu.Mesh(), "Device") != "GPU (EGL)")
+  if (sbtest::FieldString(gpu.Mesh(), "Device") != "GPU (EGL)")
   {
     std::cout << "filter.gpu_device: skipped, no GPU here: "
               << (gpu.Messages->Warnings.empty() ? "" : gpu.Messages->Warnings.front()) << "\n";
     return 77;
   }
-  SB_CHECK(!FieldString(gpu.Mesh(), "GLRenderer").empty(), "no GL renderer recorded");
-  std::cout << "GLRenderer: " << FieldString(gpu.Mesh(), "GLRenderer") << "\n";
+  SB_CHECK(!sbtest::FieldString(gpu.Mesh(), "GLRenderer").empty(), "no GL renderer recorded");
+  std::cout << "GLRenderer: " << sbtest::FieldString(gpu.Mesh(), "GLRenderer") << "\n";
 
   SB_CHECK(cpu.Update(0.1), cpu.Messages->AllErrors());
-  SB_CHECK(FieldString(cpu.Mesh(), "Device") == "CPU", "the CPU filter reports " << FieldString(cpu.Mesh(), "Device"));
-  SB_CHECK(FieldString(cpu.Mesh(), "GLRenderer").empty(), "a renderer on the CPU");
+  SB_CHECK(sbtest::FieldString(cpu.Mesh(), "Device") == "CPU", "the CPU filter reports " << sbtest::FieldString(cpu.Mesh(), "Device"));
+  SB_CHECK(sbtest::FieldString(cpu.Mesh(), "GLRenderer").empty(), "a renderer on the CPU");
 
   const std::vector<double> onGpu = sbtest::PointsOf(gpu.Mesh());
   const std::vector<double> onCpu = sbtest::PointsOf(cpu.Mesh());

@@ -5,17 +5,6 @@
 // platforms explicitly).
 #include "filter_test_support.h"
 
-namespace
-{
-
-std::string FieldString(vtkUnstructuredGrid* mesh, const char* name)
-{
-  auto* array = vtkStringArray::SafeDownCast(mesh->GetFieldData()->GetAbstractArray(name));
-  return array && array->GetNumberOfValues() > 0 ? array->GetValue(0) : std::string("(missing)");
-}
-
-} // namespace
-
 int main()
 {
   auto box = sbtest::MakeTetBox(4, 3, 3, 0.02, { 0.0, 0.0, 0.01 });
@@ -36,8 +25,8 @@ int main()
   SB_CHECK(warning.find("GPU (EGL) is unavailable, simulating on the CPU") != std::string::npos,
     "the warning does not say what happened: " << warning);
   SB_CHECK(warning.find("EGL") != std::string::npos, "the warning does not say why");
-  SB_CHECK(FieldString(gpu.Mesh(), "Device") == "CPU", "Device = " << FieldString(gpu.Mesh(), "Device"));
-  SB_CHECK(FieldString(gpu.Mesh(), "GLRenderer").empty(), "a renderer without a GPU");
+  SB_CHECK(sbtest::FieldString(gpu.Mesh(), "Device") == "CPU", "Device = " << sbtest::FieldString(gpu.Mesh(), "Device"));
+  SB_CHECK(sbtest::FieldString(gpu.Mesh(), "GLRenderer").empty(), "a renderer without a GPU");
   auto* warnings = vtkStringArray::SafeDownCast(gpu.Mesh()->GetFieldData()->GetAbstractArray("Warnings"));
   // The caught message carries VTK's "Warning: In ..." prefix; the field holds the text alone.
   const std::string recorded = warnings && warnings->GetNumberOfValues() > 0

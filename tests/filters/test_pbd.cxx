@@ -24,12 +24,6 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeCloth(int n)
   copy->DeepCopy(cloth->GetOutput());
   return copy;
 }
-
-double FieldValue(vtkDataObject* data, const char* name)
-{
-  vtkDataArray* array = data->GetFieldData()->GetArray(name);
-  return array ? array->GetTuple1(0) : std::nan("");
-}
 } // namespace
 
 int main()
@@ -61,14 +55,14 @@ int main()
       SB_CHECK(std::memcmp(&now[3 * 90], &rest[3 * 90], 3 * sizeof(double)) == 0, "pinned corner 90 moved");
       SB_CHECK(std::memcmp(&now[3 * 99], &rest[3 * 99], 3 * sizeof(double)) == 0, "pinned corner 99 moved");
       SB_CHECK(now[2] < rest[2] - 0.2, "the free edge falls (z " << now[2] << ")");
-      SB_CHECK(FieldValue(f.Mesh(), "Iterations") == 12, "Iterations field");
-      SB_CHECK(FieldValue(f.Mesh(), "Residual") >= 0, "Residual field");
+      SB_CHECK(sbtest::FieldValue(f.Mesh(), "Iterations") == 12, "Iterations field");
+      SB_CHECK(sbtest::FieldValue(f.Mesh(), "Residual") >= 0, "Residual field");
       vtkTable* table = vtkTable::SafeDownCast(f.Filter->GetOutputDataObject(2));
       SB_CHECK(table && table->GetNumberOfRows() == 12, "one convergence row per iteration");
       if (table && table->GetNumberOfRows() == 12)
       {
         SB_CHECK(table->GetColumnByName("Residual")->GetVariantValue(11).ToDouble() ==
-            FieldValue(f.Mesh(), "Residual"),
+            sbtest::FieldValue(f.Mesh(), "Residual"),
           "the last row is the frame's residual");
       }
       SB_CHECK(f.Messages->Errors.empty(), f.Messages->AllErrors());
