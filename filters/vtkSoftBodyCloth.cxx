@@ -11,8 +11,8 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "softbody/cloth.h"
-#include "softbody/errors.h"
+#include "softbody/pbd/cloth.h"
+#include "softbody/common/errors.h"
 
 vtkStandardNewMacro(vtkSoftBodyCloth);
 

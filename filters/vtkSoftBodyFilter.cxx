@@ -22,8 +22,8 @@
 #include "vtkTable.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "softbody/errors.h"
-#include "softbody/mass_spring_simulation.h"
+#include "softbody/common/errors.h"
+#include "softbody/massspring/mass_spring_simulation.h"
 #ifdef SOFTBODY_WITH_GPU
 #include "softbody/gpu/mass_spring_gpu_simulation.h"
 #endif

@@ -13,8 +13,8 @@
 #ifndef vtkSoftBodyInputConversion_h
 #define vtkSoftBodyInputConversion_h
 
-#include "softbody/mass_spring_simulation.h" // softbody::BodyDescription
-#include "softbody/pbd_simulation.h"          // softbody::PbdBody
+#include "softbody/massspring/mass_spring_simulation.h" // softbody::BodyDescription
+#include "softbody/pbd/pbd_simulation.h"          // softbody::PbdBody
 
 #include "vtkType.h" // vtkIdType
 

@@ -19,8 +19,8 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "softbody/errors.h"
-#include "softbody/mesh_quality.h"
+#include "softbody/common/errors.h"
+#include "softbody/massspring/stability_report.h"
 
 #include <cmath>
 #include <limits>

@@ -8,7 +8,7 @@
 #ifndef vtkSoftBodyPbdAdapter_h
 #define vtkSoftBodyPbdAdapter_h
 
-#include "softbody/pbd_simulation.h"
+#include "softbody/pbd/pbd_simulation.h"
 
 #include "vtkType.h"
 

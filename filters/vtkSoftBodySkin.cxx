@@ -14,7 +14,7 @@
 #include "vtkStaticCellLocator.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "softbody/errors.h"
+#include "softbody/common/errors.h"
 
 #include <cmath>
 #include <sstream>

@@ -12,7 +12,7 @@
 #ifndef vtkSoftBodySkin_h
 #define vtkSoftBodySkin_h
 
-#include "softbody/skinning.h"
+#include "softbody/lattice/skinning.h"
 
 #include "vtkType.h"
 

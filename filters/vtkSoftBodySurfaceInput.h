@@ -10,7 +10,7 @@
 #ifndef vtkSoftBodySurfaceInput_h
 #define vtkSoftBodySurfaceInput_h
 
-#include "softbody/geometry.h"
+#include "softbody/common/geometry.h"
 
 #include "vtkSmartPointer.h"
 

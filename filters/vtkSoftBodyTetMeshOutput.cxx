@@ -11,7 +11,7 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "softbody/errors.h"
+#include "softbody/common/errors.h"
 
 #include <algorithm>
 #include <exception>

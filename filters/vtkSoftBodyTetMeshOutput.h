@@ -8,8 +8,8 @@
 #ifndef vtkSoftBodyTetMeshOutput_h
 #define vtkSoftBodyTetMeshOutput_h
 
-#include "softbody/mesh_io.h"
-#include "softbody/tet_mesh.h"
+#include "softbody/mesh/mesh_io.h"
+#include "softbody/mesh/tet_mesh.h"
 
 #include <string>
 

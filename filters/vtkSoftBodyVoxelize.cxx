@@ -18,9 +18,9 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "softbody/errors.h"
-#include "softbody/lattice.h"
-#include "softbody/tetrahedralize.h" // checkClosedManifold
+#include "softbody/common/errors.h"
+#include "softbody/lattice/lattice.h"
+#include "softbody/mesh/tetrahedralize.h" // checkClosedManifold
 
 #include <algorithm>
 #include <cmath>

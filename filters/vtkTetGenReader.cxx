@@ -5,7 +5,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "softbody/mesh_io.h"
+#include "softbody/mesh/mesh_io.h"
 
 vtkStandardNewMacro(vtkTetGenReader);
 

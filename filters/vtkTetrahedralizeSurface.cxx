@@ -12,8 +12,8 @@
 #include "vtkTriangleFilter.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "softbody/errors.h"
-#include "softbody/tetrahedralize.h"
+#include "softbody/common/errors.h"
+#include "softbody/mesh/tetrahedralize.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,7 +7,7 @@
 #include "stage_clock.h"
 #include "storage_buffer.h"
 
-#include "softbody/mass_spring_setup.h"
+#include "softbody/massspring/mass_spring_setup.h"
 
 #include <vector>
 

@@ -4,9 +4,9 @@
 #include "gl_thread.h"
 #include "mass_spring_device.h"
 
-#include "softbody/errors.h"
+#include "softbody/common/errors.h"
 #include "softbody/gpu/gpu_errors.h"
-#include "softbody/mass_spring_setup.h"
+#include "softbody/massspring/mass_spring_setup.h"
 
 #include <chrono>
 

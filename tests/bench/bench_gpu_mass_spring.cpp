@@ -12,9 +12,9 @@
 #include "bench_meshes.h"
 #include "bench_options.h"
 
-#include "softbody/errors.h"
+#include "softbody/common/errors.h"
 #include "softbody/gpu/mass_spring_gpu_simulation.h"
-#include "softbody/mass_spring_simulation.h"
+#include "softbody/massspring/mass_spring_simulation.h"
 
 #include <algorithm>
 #include <chrono>

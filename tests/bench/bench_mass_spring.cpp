@@ -12,8 +12,8 @@
 #include "bench_options.h"
 #include "memory_bandwidth.h"
 
-#include "softbody/errors.h"
-#include "softbody/mass_spring_simulation.h"
+#include "softbody/common/errors.h"
+#include "softbody/massspring/mass_spring_simulation.h"
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>

@@ -1,6 +1,6 @@
 #include "bench_meshes.h"
 
-#include "softbody/mesh_generators.h"
+#include "softbody/mesh/mesh_generators.h"
 
 #include <tetgen.h>
 #include <vtkCellArray.h>

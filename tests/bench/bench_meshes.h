@@ -2,7 +2,7 @@
 // ../shared/data when present (read with VTK's readers and TetGen's own loader).
 #pragma once
 
-#include "softbody/tet_mesh.h"
+#include "softbody/mesh/tet_mesh.h"
 
 #include <string>
 #include <vector>

@@ -2,7 +2,7 @@
 // hashes at every thread count show the runs computed the same thing).
 #pragma once
 
-#include "softbody/geometry.h"
+#include "softbody/common/geometry.h"
 
 #include <cstdint>
 #include <cstdlib>

@@ -14,8 +14,8 @@
 #include "bench_meshes.h"
 #include "bench_options.h"
 
-#include "softbody/cloth.h"
-#include "softbody/pbd_simulation.h"
+#include "softbody/pbd/cloth.h"
+#include "softbody/pbd/pbd_simulation.h"
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>

@@ -20,8 +20,8 @@
 #include "vtkSphereSource.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "softbody/lattice.h"
-#include "softbody/skinning.h"
+#include "softbody/lattice/lattice.h"
+#include "softbody/lattice/skinning.h"
 
 #include <chrono>
 #include <cstdio>

@@ -1,7 +1,7 @@
 // Results must not depend on the number of threads: every parallel loop is a gather with a
 // fixed summation order. Compared bit for bit, with a state hash as in Box2D's tests.
-#include "softbody/mass_spring_simulation.h"
-#include "softbody/mesh_generators.h"
+#include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/mesh/mesh_generators.h"
 
 #include <tbb/global_control.h>
 

@@ -1,6 +1,6 @@
 // Internal forces: zero at rest, conservative (minus the energy gradient), momentum-free.
-#include "softbody/mass_spring_forces.h"
-#include "softbody/mesh_generators.h"
+#include "softbody/massspring/mass_spring_forces.h"
+#include "softbody/mesh/mesh_generators.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // Tet volume gradients and the connectivity derived from tets.
-#include "softbody/mesh_generators.h"
-#include "softbody/topology.h"
+#include "softbody/mesh/mesh_generators.h"
+#include "softbody/mesh/topology.h"
 
 #include <gtest/gtest.h>
 

@@ -2,10 +2,10 @@
 // stated tolerance, for every integrator; bitwise reproducible across runs; the frame-cache
 // contract (state / restoreState). Skipped (GTEST_SKIP, reported as skipped by CTest) where
 // no EGL/OpenGL 4.3 context can be made.
-#include "softbody/errors.h"
+#include "softbody/common/errors.h"
 #include "softbody/gpu/mass_spring_gpu_simulation.h"
-#include "softbody/mass_spring_simulation.h"
-#include "softbody/mesh_generators.h"
+#include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/mesh/mesh_generators.h"
 
 #include <gtest/gtest.h>
 

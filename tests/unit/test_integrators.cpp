@@ -1,7 +1,7 @@
 // The four integrators against analytic solutions: free fall and the harmonic oscillator.
-#include "softbody/integrators.h"
-#include "softbody/mass_spring_simulation.h"
-#include "softbody/mesh_generators.h"
+#include "softbody/massspring/explicit_integrators.h"
+#include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/mesh/mesh_generators.h"
 
 #include <gtest/gtest.h>
 

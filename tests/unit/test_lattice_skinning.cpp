@@ -1,8 +1,8 @@
 // Particle lattices (voxelized bodies) and skinning a surface onto a body.
-#include "softbody/errors.h"
-#include "softbody/lattice.h"
-#include "softbody/mesh_generators.h"
-#include "softbody/skinning.h"
+#include "softbody/common/errors.h"
+#include "softbody/lattice/lattice.h"
+#include "softbody/mesh/mesh_generators.h"
+#include "softbody/lattice/skinning.h"
 
 #include "test_support.h"
 

@@ -1,6 +1,6 @@
 // Mass distribution and inverse-mass truncation.
-#include "softbody/mass.h"
-#include "softbody/mesh_generators.h"
+#include "softbody/material/mass.h"
+#include "softbody/mesh/mesh_generators.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // Mesh file readers: TetGen .node/.ele (round trip through files written here) and Gmsh .msh
 // 2.2 / 4.1; truncated and garbled files must give InvalidInputError, never a crash or a hang;
 // the public meshes of ../shared/data load with their published counts when present.
-#include "softbody/errors.h"
-#include "softbody/mesh_generators.h"
-#include "softbody/mesh_io.h"
+#include "softbody/common/errors.h"
+#include "softbody/mesh/mesh_generators.h"
+#include "softbody/mesh/mesh_io.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // Mesh quality report: dihedral angles against closed forms, sliver / inverted / degenerate
 // flags on a hand-built mesh, histograms, and the mass-spring numbers against the simulation.
-#include "softbody/errors.h"
-#include "softbody/mass_spring_simulation.h"
-#include "softbody/mesh_generators.h"
-#include "softbody/mesh_quality.h"
+#include "softbody/common/errors.h"
+#include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/mesh/mesh_generators.h"
+#include "softbody/massspring/stability_report.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The quality report on the public meshes of ../shared/data (read with core's Gmsh reader):
 // 6_tetra_bad.msh has one inverted tet, IPC's bunny.msh is full of slivers (worst ~0.23
 // degrees). Skipped when the folder is absent.
-#include "softbody/mesh_io.h"
-#include "softbody/mesh_quality.h"
+#include "softbody/mesh/mesh_io.h"
+#include "softbody/massspring/stability_report.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Each PBD/XPBD projection kernel on its own: exact restoration, mass weighting, pinned
 // particles, gradients against finite differences, XPBD's compliance balance.
-#include "softbody/pbd_kernels.h"
+#include "softbody/pbd/pbd_kernels.h"
 
 #include "test_support.h"
 

@@ -1,10 +1,10 @@
 // The PBD/XPBD step as a whole: free fall, momentum, pins, floor response, the solver
 // comparisons of the PBD thesis, determinism across thread counts, breaking and plasticity.
-#include "softbody/cloth.h"
-#include "softbody/errors.h"
-#include "softbody/mass_spring_simulation.h"
-#include "softbody/mesh_generators.h"
-#include "softbody/pbd_simulation.h"
+#include "softbody/pbd/cloth.h"
+#include "softbody/common/errors.h"
+#include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/mesh/mesh_generators.h"
+#include "softbody/pbd/pbd_simulation.h"
 
 #include "test_support.h"
 

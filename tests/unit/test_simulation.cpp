@@ -1,7 +1,7 @@
 // Whole-simulation behaviour: landing on the floor, pins, conservation, input errors.
-#include "softbody/errors.h"
-#include "softbody/mass_spring_simulation.h"
-#include "softbody/mesh_generators.h"
+#include "softbody/common/errors.h"
+#include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/mesh/mesh_generators.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // Stable time step estimates: the amplification analysis and the simulation that obeys it.
-#include "softbody/errors.h"
-#include "softbody/mass_spring_simulation.h"
-#include "softbody/mesh_generators.h"
-#include "softbody/stability.h"
+#include "softbody/common/errors.h"
+#include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/mesh/mesh_generators.h"
+#include "softbody/massspring/stability.h"
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // Strain limiting: violated springs are pulled back to the limit, weighted by inverse mass.
-#include "softbody/constraints.h"
-#include "softbody/mass.h"
-#include "softbody/mass_spring_forces.h"
-#include "softbody/mesh_generators.h"
+#include "softbody/massspring/strain_limit.h"
+#include "softbody/material/mass.h"
+#include "softbody/massspring/mass_spring_forces.h"
+#include "softbody/mesh/mesh_generators.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Small helpers shared by the unit tests.
 #pragma once
 
-#include "softbody/geometry.h"
+#include "softbody/common/geometry.h"
 
 #include <random>
 #include <vector>

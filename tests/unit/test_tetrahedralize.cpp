@@ -1,7 +1,7 @@
 // TetGen through core: closed surfaces become positively oriented tets filling exactly the
 // enclosed volume; open, non-manifold and self-intersecting surfaces are refused with a message.
-#include "softbody/errors.h"
-#include "softbody/tetrahedralize.h"
+#include "softbody/common/errors.h"
+#include "softbody/mesh/tetrahedralize.h"
 
 #include <gtest/gtest.h>
 

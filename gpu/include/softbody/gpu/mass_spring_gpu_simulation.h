@@ -12,8 +12,8 @@
 // time.
 #pragma once
 
-#include "softbody/mass_spring_simulation.h" // BodyDescription, SceneSettings
-#include "softbody/simulation.h"
+#include "softbody/massspring/mass_spring_simulation.h" // BodyDescription, SceneSettings
+#include "softbody/common/simulation.h"
 
 #include <memory>
 #include <string>

@@ -1,0 +1,77 @@
+// The contract every soft-body stepper fulfils (CPU mass-spring, GPU mass-spring, PBD/XPBD):
+// the VTK filter, its frame cache and the benchmarks talk to this interface only.
+#pragma once
+
+#include "softbody/common/geometry.h"
+#include "softbody/common/state.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace softbody
+{
+
+/// Called during advance() with the fraction done; return false to abort.
+using ProgressCallback = std::function<bool(double fraction)>;
+
+enum class AdvanceStatus
+{
+  Completed,
+  Aborted
+};
+
+struct StageTiming
+{
+  std::string stage;
+  double seconds = 0.0; ///< accumulated wall time since construction
+};
+
+class Simulation
+{
+public:
+  virtual ~Simulation() = default;
+
+  /// Advances to `endTime` (>= time()) in equal steps no larger than stepSize(): the interval
+  /// is split into ceil(interval / stepSize()) steps, so a run that stops at frame times
+  /// produces exactly the same states as one that does not stop. Throws
+  /// SimulationDivergedError if the state turns non-finite or explodes.
+  virtual AdvanceStatus advance(double endTime, const ProgressCallback& progress = {}) = 0;
+
+  /// The whole state needed to resume (a frame-cache snapshot).
+  virtual const DynamicState& state() const = 0;
+  /// Resumes from a snapshot taken from this simulation (same body and settings).
+  virtual void restoreState(const DynamicState& snapshot) = 0;
+
+  double time() const { return state().time; }
+  unsigned long long stepCount() const { return state().stepCount; }
+  const std::vector<Vec3>& positions() const { return state().positions; }
+  const std::vector<Vec3>& velocities() const { return state().velocities; }
+
+  virtual const std::vector<Vec3>& restPositions() const = 0;
+  virtual const std::vector<double>& inverseMasses() const = 0;
+  virtual double totalMass() const = 0;
+
+  /// Current over rest volume of each tet, in input cell order; empty for bodies without tets.
+  virtual std::vector<double> tetVolumeRatios() const = 0;
+
+  virtual double stepSize() const = 0;            ///< [s]
+  virtual double estimatedStableStep() const = 0; ///< [s]; 0 if none is stable or not relevant
+
+  /// Everything worth telling the user once (clamped parameters, re-oriented tets, ...).
+  virtual const std::vector<std::string>& warnings() const = 0;
+  /// The stages this scene runs per step, in order (only those it needs), with the wall time
+  /// spent in each so far.
+  virtual std::vector<StageTiming> stageTimings() const = 0;
+  std::vector<std::string> plan() const
+  {
+    std::vector<std::string> names;
+    for (const StageTiming& timing : stageTimings())
+    {
+      names.push_back(timing.stage);
+    }
+    return names;
+  }
+};
+
+} // namespace softbody

@@ -1,0 +1,45 @@
+// Explicit time integrators of the mass-spring thesis: Euler, Midpoint (RK2), Verlet and
+// Euler-Cromer (symplectic Euler). Each advances positions and velocities by one step h using
+// an acceleration evaluator a(x, v). Pinned points have a = 0 and v = 0 and never move.
+#pragma once
+
+#include "softbody/common/geometry.h"
+#include "softbody/common/state.h"
+
+#include <vector>
+
+namespace softbody
+{
+
+enum class Integrator
+{
+  Euler,       ///< x += h v(t);        v += h a(t)                 first order, needs damping
+  Midpoint,    ///< RK2 through the midpoint state                  second order
+  Verlet,      ///< Stoermer-Verlet in leapfrog form (see below)    second order, symplectic
+  EulerCromer  ///< v += h a(t);        x += h v(t+h)               first order, symplectic
+};
+
+const char* integratorName(Integrator integrator);
+
+/// Computes accelerations [m/s^2] for given positions and velocities.
+class AccelerationEvaluator
+{
+public:
+  virtual ~AccelerationEvaluator() = default;
+  virtual void evaluate(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
+    std::vector<Vec3>& accelerations) const = 0;
+};
+
+/// Work arrays reused across steps (no allocation in the step loop).
+struct IntegratorScratch
+{
+  std::vector<Vec3> acceleration;
+  std::vector<Vec3> midPositions;
+  std::vector<Vec3> midVelocities;
+};
+
+/// Advances `state` by h (positions, velocities, time, stepCount, previousStep).
+void integrateStep(Integrator integrator, double h, const AccelerationEvaluator& evaluator,
+  DynamicState& state, IntegratorScratch& scratch);
+
+} // namespace softbody

@@ -1,0 +1,70 @@
+// A mass-spring soft body on a tetrahedral mesh: owns the state and the step plan and advances
+// in time. This is the whole contract the VTK filter (and the future GPU stepper) relies on.
+#pragma once
+
+#include "softbody/common/simulation.h"
+#include "softbody/massspring/explicit_integrators.h"
+#include "softbody/massspring/mass_spring_forces.h"
+#include "softbody/massspring/mass_spring_settings.h"
+#include "softbody/massspring/strain_limit.h"
+#include "softbody/material/mass.h"
+
+#include <string>
+#include <vector>
+
+namespace softbody
+{
+
+class MassSpringSimulation final : public Simulation
+{
+public:
+  /// Validates and prepares the body; throws InvalidInputError with a user-facing message.
+  MassSpringSimulation(BodyDescription body, const SceneSettings& scene);
+
+  AdvanceStatus advance(double endTime, const ProgressCallback& progress = {}) override;
+  const DynamicState& state() const override { return State; }
+  void restoreState(const DynamicState& snapshot) override;
+
+  const std::vector<Vec3>& restPositions() const override { return Mesh.points; }
+  const std::vector<double>& inverseMasses() const override { return Masses.inverseMass; }
+  const std::vector<double>& masses() const { return Masses.mass; }
+  double totalMass() const override { return Masses.totalMass; }
+  const Topology& topology() const { return Topo; }
+  const ElementConstants& elementConstants() const { return Constants; }
+
+  /// Current over rest volume of each tet (in core's orientation: inverted input tets that
+  /// were re-oriented report positive ratios).
+  std::vector<double> tetVolumeRatios() const override;
+
+  double stepSize() const override { return Step; }
+  double estimatedStableStep() const override { return StableStep; }
+  double highestFrequency() const { return OmegaMax; }   ///< bound [rad/s]
+
+  /// Everything worth telling the user: re-oriented tets, clamped parameters, a step above
+  /// the stability estimate, truncated inverse masses.
+  const std::vector<std::string>& warnings() const override { return Warnings; }
+  std::vector<StageTiming> stageTimings() const override;
+
+private:
+  class Forces;
+  void stepOnce(double h);
+  void checkDivergence() const;
+
+  SceneSettings Scene;
+  TetMesh Mesh;
+  Topology Topo;
+  ElementConstants Constants;
+  PointMasses Masses;
+  DynamicState State;
+  IntegratorScratch IntegratorWork;
+  StrainLimitScratch StrainWork;
+  double Step = 0.0;
+  double StableStep = 0.0;
+  double OmegaMax = 0.0;
+  std::vector<std::string> Warnings;
+  mutable std::vector<double> StageSeconds; // forces, integrate, strain limit, floor, checks
+  mutable ForceScratch ForceWork;
+  mutable std::vector<Vec3> ForceBuffer;
+};
+
+} // namespace softbody

@@ -1,0 +1,93 @@
+// Material parameters and their conversion to per-spring and per-tet constants.
+//
+// The model is the mass-spring system of Teschner et al. 2004 ("A versatile and robust model
+// for geometrically complex deformable solids") as used by the tetrahedral mass-spring thesis:
+//   distance preservation, per edge:  C_D = (l - l0) / l0,   E_D = k_D / 2 * C_D^2
+//   volume preservation, per tet:     C_V = (V - V0) / V0,   E_V = k_V / 2 * C_V^2
+//   force on point i:  f_i = -(k C + k_d dC/dt) dC/dp_i
+// k_D and k_V are energies [J]; k_d are [J s].
+//
+// Physical mode derives them from Young's modulus E, Poisson ratio nu and a Rayleigh
+// (stiffness-proportional) damping time beta. For small strains an isotropic network of
+// springs with sum_e k_D,e = kappa * V behaves like a linear solid with Lame parameters
+// lambda = mu = kappa / 15 (average of n_i n_j n_k n_l over directions), i.e. nu = 1/4.
+// So springs carry the shear modulus: k_D,e = 15 mu V_e with V_e = (sum of the volumes of the
+// tets around e) / 6, and the volume term adds the missing lambda - mu >= 0 (C_V = tr(eps) for
+// small strain): k_V,t = (lambda - mu) V_t. A network cannot express nu < 1/4; it is clamped
+// there with a warning. Damping: k_d = beta * k, so a mode of angular frequency w gets the
+// damping ratio beta * w / 2.
+#pragma once
+
+#include "softbody/mesh/topology.h"
+
+#include <string>
+#include <vector>
+
+namespace softbody
+{
+
+enum class MaterialMode
+{
+  Physical, ///< Young's modulus, Poisson ratio, density, damping time
+  Raw       ///< the thesis's constants k_D, k_V, damping and total mass, taken as they are
+};
+
+enum class MassDistribution
+{
+  AverageIncidentVolume, ///< m_i proportional to the mean volume of the tets around i (thesis)
+  LumpedVolume           ///< m_i proportional to a quarter of the volume of the tets around i
+};
+
+struct PhysicalMaterial
+{
+  double youngsModulus = 1.0e5; ///< E [Pa]; soft rubber
+  double poissonRatio = 0.3;    ///< nu in [0.25, 0.5); below 0.25 is clamped to 0.25
+  double density = 1100.0;      ///< rho [kg/m^3]
+  double dampingTime = 2.0e-3;  ///< beta [s]: stiffness-proportional damping
+};
+
+struct RawConstants
+{
+  double distanceStiffness = 100.0; ///< k_D [J]
+  double distanceDamping = 0.1;     ///< k_D,d [J s]
+  double volumeStiffness = 100.0;   ///< k_V [J]
+  double volumeDamping = 0.1;       ///< k_V,d [J s]
+  double totalMass = 1.0;           ///< [kg]
+};
+
+struct MaterialSettings
+{
+  MaterialMode mode = MaterialMode::Physical;
+  PhysicalMaterial physical;
+  RawConstants raw;
+  MassDistribution massDistribution = MassDistribution::AverageIncidentVolume;
+  /// Largest allowed inverse mass [1/kg]; larger ones are truncated (the point gets heavier).
+  /// 0 disables truncation.
+  double maxInverseMass = 0.0;
+};
+
+/// Per-element constants in the units the force kernels use directly.
+struct ElementConstants
+{
+  std::vector<double> restLength;       ///< l0 per edge [m]
+  std::vector<double> springStiffness;  ///< k_D / l0^2 per edge [N/m]
+  std::vector<double> springDamping;    ///< k_D,d / l0^2 per edge [N s/m]
+  std::vector<double> restVolume;       ///< V0 per tet [m^3] (positive)
+  std::vector<double> volumeStiffness;  ///< k_V / V0^2 per tet [N/m^5]
+  std::vector<double> volumeDamping;    ///< k_V,d / V0^2 per tet [N s/m^5]
+  bool hasVolumeTerm = false;           ///< any nonzero volume stiffness or damping
+  double minDampingTime = 0.0;          ///< smallest k_d / k over elements [s]
+  double maxDampingTime = 0.0;          ///< largest k_d / k over elements [s]
+};
+
+/// Throws InvalidInputError for out-of-range parameters; appends warnings (e.g. clamped nu).
+void validateMaterial(const MaterialSettings& material, std::vector<std::string>& warnings);
+
+/// Total mass [kg] the material gives a body of the given rest volume.
+double totalMassOf(const MaterialSettings& material, double restVolume);
+
+ElementConstants computeElementConstants(const Topology& topology,
+  const std::vector<Vec3>& restPositions, const MaterialSettings& material,
+  std::vector<std::string>& warnings);
+
+} // namespace softbody

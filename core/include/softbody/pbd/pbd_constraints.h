@@ -1,0 +1,86 @@
+// PBD/XPBD constraint batches: one contiguous batch per constraint type, each with the same small
+// interface the solvers are written against:
+//   Arity                      particles per constraint
+//   size()                     number of constraints
+//   particles(c)               their indices
+//   active(c)                  false for broken links (and the tets they belonged to)
+//   project(c, x, w)           the kernel of pbd_kernels.h with this constraint's data
+//   lambda[c], params[c]       Lagrange multiplier (reset each step) and per-step constants
+#pragma once
+
+#include "softbody/pbd/pbd_kernels.h"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace softbody
+{
+
+/// Distance links: tet edges and explicit links (cloth, lattices). They may be plastic (the rest
+/// length creeps) and breakable, so rest lengths and broken flags are part of the state.
+struct DistanceBatch
+{
+  static constexpr int Arity = 2;
+  std::vector<std::array<std::int32_t, 2>> ends;
+  std::vector<double> originalRest;   ///< rest length at t = 0 [m]
+  std::vector<double> rest;           ///< current rest length [m] (plastic flow changes it)
+  std::vector<double> stiffnessScale; ///< per-link factor on the batch stiffness (cloth diagonals)
+  std::vector<double> compliance;     ///< XPBD from elasticity: per-link alpha [m/N]; else empty
+  std::vector<unsigned char> broken;
+  DistanceKind kind = DistanceKind::Equality;
+  std::vector<double> lambda;
+  std::vector<ProjectionParameters> params;
+
+  std::size_t size() const { return ends.size(); }
+  const std::int32_t* particles(std::size_t c) const { return ends[c].data(); }
+  bool active(std::size_t c) const { return broken[c] == 0; }
+  Projection<2> project(std::size_t c, const std::vector<Vec3>& x, const std::vector<double>& w) const
+  {
+    const auto& e = ends[c];
+    return projectDistance(x[e[0]], x[e[1]], w[e[0]], w[e[1]], rest[c], kind, lambda[c], params[c]);
+  }
+};
+
+/// Tet volumes toward their rest volumes.
+struct VolumeBatch
+{
+  static constexpr int Arity = 4;
+  std::vector<Tet> tets;
+  std::vector<double> restVolume; ///< [m^3], positive (tets are oriented positively)
+  std::vector<double> compliance; ///< XPBD from elasticity: per-tet alpha [m^3/Pa] (inf: none)
+  std::vector<unsigned char> broken; ///< a tet with a broken edge no longer holds its volume
+  std::vector<double> lambda;
+  std::vector<ProjectionParameters> params;
+
+  std::size_t size() const { return tets.size(); }
+  const std::int32_t* particles(std::size_t c) const { return tets[c].data(); }
+  bool active(std::size_t c) const { return broken[c] == 0; }
+  Projection<4> project(std::size_t c, const std::vector<Vec3>& x, const std::vector<double>& w) const
+  {
+    const Tet& t = tets[c];
+    return projectTetVolume({ x[t[0]], x[t[1]], x[t[2]], x[t[3]] },
+      { w[t[0]], w[t[1]], w[t[2]], w[t[3]] }, restVolume[c], lambda[c], params[c]);
+  }
+};
+
+/// Soft attachments of particles to fixed targets (pins that are not infinitely stiff).
+struct AttachmentBatch
+{
+  static constexpr int Arity = 1;
+  std::vector<std::int32_t> particle;
+  std::vector<Vec3> target;
+  std::vector<double> lambda;
+  std::vector<ProjectionParameters> params;
+
+  std::size_t size() const { return particle.size(); }
+  const std::int32_t* particles(std::size_t c) const { return &particle[c]; }
+  bool active(std::size_t) const { return true; }
+  Projection<1> project(std::size_t c, const std::vector<Vec3>& x, const std::vector<double>& w) const
+  {
+    const std::int32_t i = particle[c];
+    return projectAttachment(x[i], w[i], target[c], lambda[c], params[c]);
+  }
+};
+
+} // namespace softbody

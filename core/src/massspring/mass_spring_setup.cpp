@@ -1,0 +1,182 @@
+#include "softbody/massspring/mass_spring_setup.h"
+#include "softbody/common/stepping.h"
+
+#include "softbody/common/errors.h"
+#include "softbody/massspring/stability.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace softbody
+{
+namespace
+{
+
+void validateScene(const SceneSettings& scene)
+{
+  auto fail = [](const std::string& message) { throw InvalidInputError(message); };
+  if (!(scene.timeStep >= 0.0) || !std::isfinite(scene.timeStep))
+  {
+    fail("TimeStep must be 0 (automatic) or a positive number of seconds.");
+  }
+  if (!scene.gravity.allFinite())
+  {
+    fail("Gravity must be finite.");
+  }
+  if (scene.floorEnabled && (!(scene.floor.normal.norm() > 0.0) || !scene.floor.normal.allFinite() ||
+                              !scene.floor.origin.allFinite()))
+  {
+    fail("FloorNormal must be a nonzero finite vector and FloorOrigin finite.");
+  }
+  if (scene.strainLimit != 0.0 && !(scene.strainLimit > 1.0))
+  {
+    fail("StrainLimit must be 0 (off) or a stretch factor greater than 1.");
+  }
+  if (scene.strainLimitIterations < 1)
+  {
+    fail("StrainLimitIterations must be at least 1.");
+  }
+  if (!(scene.stabilitySafety > 0.0 && scene.stabilitySafety <= 1.0))
+  {
+    fail("The stability safety factor must be in (0, 1].");
+  }
+}
+
+/// Step size from the stability estimate (auto mode) or the user's choice, with warnings.
+void chooseStep(MassSpringSetup& s)
+{
+  const SceneSettings& scene = s.scene;
+  const ElementConstants& c = s.constants;
+  s.omegaMax = highestFrequencyBound(s.topology, c, s.masses.inverseMass, s.mesh.points);
+  s.stableStep = stableTimeStep(scene.integrator, s.omegaMax, c.minDampingTime, c.maxDampingTime);
+  const double symplecticStep =
+    stableTimeStep(Integrator::EulerCromer, s.omegaMax, c.minDampingTime, c.maxDampingTime);
+  if (scene.timeStep > 0.0)
+  {
+    s.step = scene.timeStep;
+    if (s.stableStep > 0.0 && s.step > s.stableStep)
+    {
+      std::ostringstream message;
+      message << "TimeStep " << s.step << " s is above the estimated stable step " << s.stableStep
+              << " s of " << integratorName(scene.integrator)
+              << "; the simulation may blow up (set TimeStep to 0 for automatic).";
+      s.warnings.push_back(message.str());
+    }
+  }
+  else if (s.stableStep > 0.0)
+  {
+    s.step = scene.stabilitySafety * s.stableStep;
+  }
+  else if (symplecticStep > 0.0)
+  {
+    // Explicit Euler without damping amplifies every oscillation at any step size.
+    s.step = 0.1 * scene.stabilitySafety * symplecticStep;
+    std::ostringstream message;
+    message << integratorName(scene.integrator)
+            << " has no stable step without damping: oscillations grow at any step. Using "
+            << s.step << " s; add damping or choose Euler-Cromer or Verlet.";
+    s.warnings.push_back(message.str());
+  }
+  else
+  {
+    s.step = 1e-3; // no internal stiffness at all (e.g. zero constants): any step is stable
+  }
+}
+
+} // namespace
+
+MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& scene)
+{
+  MassSpringSetup s;
+  s.scene = scene;
+  validateScene(s.scene);
+  if (!body.pinned.empty() && body.pinned.size() != body.mesh.points.size())
+  {
+    throw InvalidInputError("The pinned-point flags do not match the number of points.");
+  }
+  s.mesh = prepareTetMesh(std::move(body.mesh), s.scene.invertedTets, s.warnings);
+  s.topology = buildTopology(s.mesh.points.size(), s.mesh.tets);
+  s.constants = computeElementConstants(s.topology, s.mesh.points, body.material, s.warnings);
+
+  double restVolume = 0.0;
+  for (double v : s.constants.restVolume)
+  {
+    restVolume += v;
+  }
+  s.masses = distributeMass(s.topology, s.constants.restVolume,
+    totalMassOf(body.material, restVolume), body.material.massDistribution,
+    body.material.maxInverseMass, body.pinned);
+  if (s.masses.truncatedCount > 0)
+  {
+    std::ostringstream message;
+    message << s.masses.truncatedCount << " inverse masses were truncated to "
+            << body.material.maxInverseMass << " 1/kg; the total mass grew to "
+            << s.masses.totalMass << " kg.";
+    s.warnings.push_back(message.str());
+  }
+
+  s.scene.floor.normal.normalize();
+  if (s.scene.floorEnabled)
+  {
+    std::size_t below = 0;
+    for (const Vec3& p : s.mesh.points)
+    {
+      below += (p - s.scene.floor.origin).dot(s.scene.floor.normal) < 0.0 ? 1 : 0;
+    }
+    if (below > 0)
+    {
+      // Projecting them all at once crushes the tets they belong to: usually not intended.
+      s.warnings.push_back(std::to_string(below) +
+        " points start below the floor and will be pushed onto it in the first step; move "
+        "FloorOrigin below the body to drop it instead.");
+    }
+  }
+  chooseStep(s);
+  return s;
+}
+
+DynamicState restState(const MassSpringSetup& setup)
+{
+  DynamicState state;
+  state.positions = setup.mesh.points;
+  state.velocities.assign(setup.mesh.points.size(), Vec3::Zero());
+  return state;
+}
+
+StepSplit splitInterval(double interval, double maxStep)
+{
+  if (!(interval > 0.0))
+  {
+    return {};
+  }
+  // The same split as every CPU stepper's advanceInEqualSteps (stepping.h).
+  const unsigned long long count = equalStepCount(interval, maxStep);
+  return { count, interval / static_cast<double>(count) };
+}
+
+bool hasDiverged(const SceneSettings& scene, double maxStretch, bool finiteVelocities)
+{
+  // Written so that a NaN stretch counts as diverged.
+  return !(maxStretch <= scene.divergenceStretch && finiteVelocities);
+}
+
+std::string divergenceMessage(const DynamicState& state, double maxStretch,
+  bool finiteVelocities, double step, double stableStep)
+{
+  std::ostringstream message;
+  message << "The simulation blew up at t = " << state.time << " s (step " << state.stepCount
+          << "): ";
+  if (std::isnan(maxStretch) || !finiteVelocities)
+  {
+    message << "the state became non-finite";
+  }
+  else
+  {
+    message << "a spring stretched to " << maxStretch << " times its rest length";
+  }
+  message << ". Time step " << step << " s, estimated stable step " << stableStep
+          << " s; reduce TimeStep (0 = automatic), add damping or use a symplectic integrator.";
+  return message.str();
+}
+
+} // namespace softbody

@@ -1,0 +1,160 @@
+#include "softbody/massspring/mass_spring_simulation.h"
+
+#include "softbody/common/errors.h"
+#include "softbody/massspring/floor_contact.h"
+#include "softbody/massspring/mass_spring_setup.h"
+
+#include "softbody/common/parallel.h"
+#include "softbody/common/stepping.h"
+
+
+namespace softbody
+{
+namespace
+{
+
+// Stage indices into StageSeconds, in step order.
+enum Stage
+{
+  kForces,
+  kIntegrate,
+  kStrainLimit,
+  kFloor,
+  kDivergenceCheck,
+  kStageCount
+};
+constexpr const char* kStageNames[kStageCount] = { "forces", "integrate", "strain limit", "floor",
+  "divergence check" };
+
+
+} // namespace
+
+/// Accelerations a_i = g + w_i f_i for free points, 0 for pinned and massless ones.
+class MassSpringSimulation::Forces final : public AccelerationEvaluator
+{
+public:
+  explicit Forces(const MassSpringSimulation& owner)
+    : Owner(owner)
+  {
+  }
+  void evaluate(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
+    std::vector<Vec3>& accelerations) const override
+  {
+    ScopedStageTimer timer(Owner.StageSeconds[kForces]);
+    computeInternalForces(
+      Owner.Topo, Owner.Constants, positions, velocities, Owner.ForceWork, accelerations);
+    const std::vector<double>& w = Owner.Masses.inverseMass;
+    const Vec3 gravity = Owner.Scene.gravity;
+    parallelFor(accelerations.size(), 4096, [&](std::size_t i) {
+      accelerations[i] = w[i] == 0.0 ? Vec3::Zero() : Vec3(gravity + w[i] * accelerations[i]);
+    });
+  }
+
+private:
+  const MassSpringSimulation& Owner;
+};
+
+MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSettings& scene)
+  : StageSeconds(kStageCount, 0.0)
+{
+  // Set-up shared with the GPU stepper (mass_spring_setup.h).
+  MassSpringSetup setup = prepareMassSpring(std::move(body), scene);
+  Scene = setup.scene;
+  State = restState(setup);
+  Mesh = std::move(setup.mesh);
+  Topo = std::move(setup.topology);
+  Constants = std::move(setup.constants);
+  Masses = std::move(setup.masses);
+  Step = setup.step;
+  StableStep = setup.stableStep;
+  OmegaMax = setup.omegaMax;
+  Warnings = std::move(setup.warnings);
+}
+
+void MassSpringSimulation::restoreState(const DynamicState& snapshot)
+{
+  if (snapshot.positions.size() != State.positions.size() ||
+      snapshot.velocities.size() != State.velocities.size())
+  {
+    throw InvalidInputError("The snapshot does not belong to this simulation.");
+  }
+  State = snapshot;
+}
+
+std::vector<StageTiming> MassSpringSimulation::stageTimings() const
+{
+  // Only the stages this scene runs, named for what they do here. "integrate" was timed around
+  // the force evaluations too; it is reported net of them.
+  std::vector<StageTiming> timings;
+  timings.push_back({ Constants.hasVolumeTerm ? "forces: springs + volumes" : "forces: springs",
+    StageSeconds[kForces] });
+  timings.push_back({ std::string("integrate: ") + integratorName(Scene.integrator),
+    StageSeconds[kIntegrate] - StageSeconds[kForces] });
+  if (Scene.strainLimit > 0.0)
+  {
+    timings.push_back({ kStageNames[kStrainLimit], StageSeconds[kStrainLimit] });
+  }
+  if (Scene.floorEnabled)
+  {
+    timings.push_back({ kStageNames[kFloor], StageSeconds[kFloor] });
+  }
+  timings.push_back({ kStageNames[kDivergenceCheck], StageSeconds[kDivergenceCheck] });
+  return timings;
+}
+
+std::vector<double> MassSpringSimulation::tetVolumeRatios() const
+{
+  std::vector<double> ratios(Topo.tets.size());
+  const std::vector<Vec3>& x = State.positions;
+  for (std::size_t t = 0; t < Topo.tets.size(); ++t)
+  {
+    const Tet& tet = Topo.tets[t];
+    ratios[t] = signedTetVolume(x[tet[0]], x[tet[1]], x[tet[2]], x[tet[3]]) / Constants.restVolume[t];
+  }
+  return ratios;
+}
+
+void MassSpringSimulation::stepOnce(double h)
+{
+  {
+    ScopedStageTimer timer(StageSeconds[kIntegrate]);
+    integrateStep(Scene.integrator, h, Forces(*this), State, IntegratorWork);
+  }
+  if (Scene.strainLimit > 0.0)
+  {
+    ScopedStageTimer timer(StageSeconds[kStrainLimit]);
+    // Verlet's velocity is the position difference of the last step: a moved point moves it.
+    limitStrain(Topo, Constants, Masses.inverseMass, Scene.strainLimit,
+      Scene.strainLimitIterations, Scene.integrator == Integrator::Verlet, h, State.positions,
+      State.velocities, StrainWork);
+  }
+  if (Scene.floorEnabled)
+  {
+    ScopedStageTimer timer(StageSeconds[kFloor]);
+    resolveFloorContacts(Scene.floor, Masses.inverseMass, State.positions, State.velocities);
+  }
+}
+
+void MassSpringSimulation::checkDivergence() const
+{
+  ScopedStageTimer timer(StageSeconds[kDivergenceCheck]);
+  const double stretch = maxStretchRatio(Topo, Constants, State.positions);
+  bool finiteVelocities = true;
+  for (const Vec3& v : State.velocities)
+  {
+    finiteVelocities = finiteVelocities && v.allFinite();
+  }
+  if (hasDiverged(Scene, stretch, finiteVelocities))
+  {
+    throw SimulationDivergedError(
+      divergenceMessage(State, stretch, finiteVelocities, Step, StableStep), State.time);
+  }
+}
+
+AdvanceStatus MassSpringSimulation::advance(double endTime, const ProgressCallback& progress)
+{
+  return advanceInEqualSteps(State, Step, endTime, progress, kDivergenceCheckInterval,
+    [&](double h, bool) { stepOnce(h); }, [&] { checkDivergence(); });
+}
+
+} // namespace softbody

@@ -1,0 +1,175 @@
+#include "softbody/material/material.h"
+
+#include "softbody/common/errors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace softbody
+{
+namespace
+{
+
+// Smallest Poisson ratio a central-force spring network can represent (lambda = mu).
+constexpr double kNetworkPoissonRatio = 0.25;
+
+void requirePositive(double value, const char* name)
+{
+  if (!(value > 0.0) || !std::isfinite(value))
+  {
+    std::ostringstream message;
+    message << name << " must be a positive finite number (got " << value << ").";
+    throw InvalidInputError(message.str());
+  }
+}
+
+void requireNonNegative(double value, const char* name)
+{
+  if (!(value >= 0.0) || !std::isfinite(value))
+  {
+    std::ostringstream message;
+    message << name << " must be zero or a positive finite number (got " << value << ").";
+    throw InvalidInputError(message.str());
+  }
+}
+
+struct EnergyConstants
+{
+  double distancePerVolume = 0.0; ///< k_D,e = distancePerVolume * V_e  [Pa]
+  double volumePerVolume = 0.0;   ///< k_V,t = volumePerVolume * V_t    [Pa]
+};
+
+EnergyConstants physicalEnergyConstants(const PhysicalMaterial& material)
+{
+  const double nu = std::max(material.poissonRatio, kNetworkPoissonRatio);
+  const double e = material.youngsModulus;
+  const double mu = e / (2.0 * (1.0 + nu));
+  const double lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  return { 15.0 * mu, lambda - mu };
+}
+
+} // namespace
+
+void validateMaterial(const MaterialSettings& material, std::vector<std::string>& warnings)
+{
+  if (material.mode == MaterialMode::Physical)
+  {
+    const PhysicalMaterial& m = material.physical;
+    requirePositive(m.youngsModulus, "YoungsModulus");
+    requirePositive(m.density, "Density");
+    requireNonNegative(m.dampingTime, "DampingTime");
+    if (!(m.poissonRatio >= 0.0 && m.poissonRatio < 0.5))
+    {
+      std::ostringstream message;
+      message << "PoissonRatio must be in [0, 0.5) (got " << m.poissonRatio << ").";
+      throw InvalidInputError(message.str());
+    }
+    if (m.poissonRatio < kNetworkPoissonRatio)
+    {
+      std::ostringstream message;
+      message << "PoissonRatio " << m.poissonRatio << " is below " << kNetworkPoissonRatio
+              << ", the smallest a mass-spring network can represent; " << kNetworkPoissonRatio
+              << " is used.";
+      warnings.push_back(message.str());
+    }
+  }
+  else
+  {
+    const RawConstants& r = material.raw;
+    requireNonNegative(r.distanceStiffness, "DistanceStiffness");
+    requireNonNegative(r.distanceDamping, "DistanceDamping");
+    requireNonNegative(r.volumeStiffness, "VolumeStiffness");
+    requireNonNegative(r.volumeDamping, "VolumeDamping");
+    requirePositive(r.totalMass, "TotalMass");
+  }
+  requireNonNegative(material.maxInverseMass, "MaxInverseMass");
+}
+
+double totalMassOf(const MaterialSettings& material, double restVolume)
+{
+  return material.mode == MaterialMode::Physical ? material.physical.density * restVolume
+                                                 : material.raw.totalMass;
+}
+
+ElementConstants computeElementConstants(const Topology& topology,
+  const std::vector<Vec3>& restPositions, const MaterialSettings& material,
+  std::vector<std::string>& warnings)
+{
+  validateMaterial(material, warnings);
+  const std::size_t edgeCount = topology.edges.size();
+  const std::size_t tetCount = topology.tets.size();
+
+  ElementConstants c;
+  c.restLength.resize(edgeCount);
+  c.springStiffness.resize(edgeCount);
+  c.springDamping.resize(edgeCount);
+  c.restVolume.resize(tetCount);
+  c.volumeStiffness.resize(tetCount);
+  c.volumeDamping.resize(tetCount);
+
+  // Volume attributed to each edge: a sixth of each tet around it.
+  std::vector<double> edgeVolume(edgeCount, 0.0);
+  for (std::size_t t = 0; t < tetCount; ++t)
+  {
+    const Tet& tet = topology.tets[t];
+    c.restVolume[t] = signedTetVolume(
+      restPositions[tet[0]], restPositions[tet[1]], restPositions[tet[2]], restPositions[tet[3]]);
+    for (int k = 0; k < 6; ++k)
+    {
+      edgeVolume[topology.tetEdges.items[6 * t + k]] += c.restVolume[t] / 6.0;
+    }
+  }
+
+  const bool physical = material.mode == MaterialMode::Physical;
+  const EnergyConstants perVolume =
+    physical ? physicalEnergyConstants(material.physical) : EnergyConstants{};
+  const double beta = material.physical.dampingTime;
+
+  for (std::size_t e = 0; e < edgeCount; ++e)
+  {
+    const Edge& edge = topology.edges[e];
+    const double l0 = (restPositions[edge.b] - restPositions[edge.a]).norm();
+    c.restLength[e] = l0;
+    const double kD = physical ? perVolume.distancePerVolume * edgeVolume[e]
+                               : material.raw.distanceStiffness;
+    const double kDd = physical ? beta * kD : material.raw.distanceDamping;
+    c.springStiffness[e] = kD / (l0 * l0);
+    c.springDamping[e] = kDd / (l0 * l0);
+  }
+  for (std::size_t t = 0; t < tetCount; ++t)
+  {
+    const double v0 = c.restVolume[t];
+    const double kV = physical ? perVolume.volumePerVolume * v0 : material.raw.volumeStiffness;
+    const double kVd = physical ? beta * kV : material.raw.volumeDamping;
+    c.volumeStiffness[t] = kV / (v0 * v0);
+    c.volumeDamping[t] = kVd / (v0 * v0);
+    c.hasVolumeTerm = c.hasVolumeTerm || kV > 0.0 || kVd > 0.0;
+  }
+
+  if (physical)
+  {
+    c.minDampingTime = c.maxDampingTime = beta;
+  }
+  else
+  {
+    // Each element family has its own ratio k_d / k; an undefined ratio (k = 0) is ignored.
+    const RawConstants& r = material.raw;
+    double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+    auto include = [&](double k, double kd) {
+      if (k > 0.0)
+      {
+        lo = std::min(lo, kd / k);
+        hi = std::max(hi, kd / k);
+      }
+    };
+    include(r.distanceStiffness, r.distanceDamping);
+    include(r.volumeStiffness, r.volumeDamping);
+    c.minDampingTime = std::isfinite(lo) ? lo : 0.0;
+    c.maxDampingTime = hi;
+  }
+  return c;
+}
+
+} // namespace softbody

@@ -1,0 +1,163 @@
+#include "softbody/mesh/tet_mesh.h"
+
+#include "softbody/common/errors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace softbody
+{
+namespace
+{
+
+bool hasBadIndices(const Tet& tet, std::size_t pointCount)
+{
+  for (int i = 0; i < 4; ++i)
+  {
+    if (tet[i] < 0 || static_cast<std::size_t>(tet[i]) >= pointCount)
+    {
+      return true;
+    }
+    for (int j = 0; j < i; ++j)
+    {
+      if (tet[i] == tet[j])
+      {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+double volumeOf(const TetMesh& mesh, const Tet& t)
+{
+  return signedTetVolume(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]);
+}
+
+} // namespace
+
+TetMeshReport inspectTetMesh(const TetMesh& mesh, double degenerateRelativeVolume)
+{
+  TetMeshReport report;
+  for (const Vec3& p : mesh.points)
+  {
+    if (!p.allFinite())
+    {
+      ++report.nonFinitePoints;
+    }
+  }
+
+  std::vector<char> used(mesh.points.size(), 0);
+  std::vector<double> volumes(mesh.tets.size(), 0.0);
+  std::size_t validCount = 0;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+  {
+    const Tet& tet = mesh.tets[t];
+    if (hasBadIndices(tet, mesh.points.size()))
+    {
+      ++report.badIndexTets;
+      continue;
+    }
+    for (std::int32_t p : tet)
+    {
+      used[p] = 1;
+    }
+    volumes[t] = volumeOf(mesh, tet);
+    report.totalVolume += std::abs(volumes[t]);
+    ++validCount;
+  }
+  report.unusedPoints = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
+  if (validCount == 0 || report.nonFinitePoints > 0)
+  {
+    return report;
+  }
+
+  // Degenerate is relative to the mesh's own scale, so the test is unit-independent.
+  const double threshold = degenerateRelativeVolume * report.totalVolume / double(validCount);
+  report.minAbsVolume = report.totalVolume;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+  {
+    if (hasBadIndices(mesh.tets[t], mesh.points.size()))
+    {
+      continue;
+    }
+    const double absVolume = std::abs(volumes[t]);
+    report.minAbsVolume = std::min(report.minAbsVolume, absVolume);
+    report.maxAbsVolume = std::max(report.maxAbsVolume, absVolume);
+    if (absVolume <= threshold)
+    {
+      if (report.degenerateTets++ == 0)
+      {
+        report.firstDegenerateTet = static_cast<std::ptrdiff_t>(t);
+      }
+    }
+    else if (volumes[t] < 0.0)
+    {
+      if (report.invertedTets++ == 0)
+      {
+        report.firstInvertedTet = static_cast<std::ptrdiff_t>(t);
+      }
+    }
+  }
+  return report;
+}
+
+TetMesh prepareTetMesh(TetMesh mesh, InvertedTetPolicy policy, std::vector<std::string>& warnings)
+{
+  if (mesh.points.empty() || mesh.tets.empty())
+  {
+    throw InvalidInputError("The input mesh is empty: it has " + std::to_string(mesh.points.size()) +
+      " points and " + std::to_string(mesh.tets.size()) + " tetrahedra.");
+  }
+  const TetMeshReport report = inspectTetMesh(mesh);
+  if (report.nonFinitePoints > 0)
+  {
+    throw InvalidInputError(std::to_string(report.nonFinitePoints) +
+      " points have NaN or infinite coordinates; fix or remove them before simulating.");
+  }
+  if (report.badIndexTets > 0)
+  {
+    throw InvalidInputError(std::to_string(report.badIndexTets) +
+      " tetrahedra refer to missing points or repeat a point.");
+  }
+  if (report.degenerateTets > 0)
+  {
+    std::ostringstream message;
+    message << report.degenerateTets << " tetrahedra are degenerate (volume below "
+            << kDegenerateRelativeVolume << " of the mean; the first is cell "
+            << report.firstDegenerateTet
+            << "). Their volume forces would be unbounded: remesh the body or remove them "
+               "(ParaView's Mesh Quality filter with the Volume measure shows them).";
+    throw InvalidInputError(message.str());
+  }
+  if (report.invertedTets > 0)
+  {
+    std::ostringstream message;
+    message << report.invertedTets << " tetrahedra are inverted (negative volume; the first is "
+            << "cell " << report.firstInvertedTet << ")";
+    if (policy == InvertedTetPolicy::Refuse)
+    {
+      message << ". Set InvertedTets to Re-orient to simulate them with corrected orientation.";
+      throw InvalidInputError(message.str());
+    }
+    // Swapping two corners flips the sign of the volume; the input itself is not touched.
+    for (Tet& tet : mesh.tets)
+    {
+      if (volumeOf(mesh, tet) < 0.0)
+      {
+        std::swap(tet[2], tet[3]);
+      }
+    }
+    message << "; they were re-oriented for the simulation.";
+    warnings.push_back(message.str());
+  }
+  if (report.unusedPoints > 0)
+  {
+    warnings.push_back(std::to_string(report.unusedPoints) +
+      " points belong to no tetrahedron; they have no mass and stay where they are.");
+  }
+  return mesh;
+}
+
+} // namespace softbody

@@ -1,0 +1,203 @@
+// TetGen .node/.ele through TetGen's own loaders (tetgenio::load_node / load_tet), so the files
+// are read exactly as TetGen reads them. Its loaders trust their input (a garbled count makes
+// them allocate or read blindly, and they print to stdout), so the headers are checked here
+// first against what the file really holds, and the loaded arrays are checked afterwards.
+#include "softbody/mesh/mesh_io.h"
+
+#include "softbody/common/errors.h"
+
+#include <tetgen.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <new>
+#include <sstream>
+#include <vector>
+
+namespace softbody
+{
+namespace
+{
+
+bool endsWith(const std::string& s, const std::string& suffix)
+{
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+/// A data line in TetGen's sense: neither blank nor a '#' comment.
+bool isDataLine(const std::string& line)
+{
+  const std::size_t first = line.find_first_not_of(" \t\r");
+  return first != std::string::npos && line[first] != '#';
+}
+
+/// Parses the first data line as integers and counts the data lines after it; checks that the
+/// header's first number (the count of records) is in [0, data lines].
+std::vector<long long> checkedHeader(const std::string& file, std::size_t expectedFields,
+  const char* what, std::size_t& dataLines)
+{
+  std::ifstream in(file);
+  if (!in)
+  {
+    throw InvalidInputError("Cannot open TetGen file '" + file + "'.");
+  }
+  std::string line;
+  std::vector<long long> header;
+  std::size_t lineNumber = 0, headerLine = 0;
+  dataLines = 0;
+  while (std::getline(in, line))
+  {
+    ++lineNumber;
+    if (!isDataLine(line))
+    {
+      continue;
+    }
+    if (headerLine == 0)
+    {
+      headerLine = lineNumber;
+      std::istringstream tokens(line.substr(0, line.find('#')));
+      std::string token;
+      while (tokens >> token)
+      {
+        char* end = nullptr;
+        const long long v = std::strtoll(token.c_str(), &end, 10);
+        if (*end != '\0')
+        {
+          throw InvalidInputError(file + ":" + std::to_string(lineNumber) + ": the " + what +
+            " header must hold integers, found '" + token + "'.");
+        }
+        header.push_back(v);
+      }
+      continue;
+    }
+    ++dataLines;
+  }
+  if (headerLine == 0)
+  {
+    throw InvalidInputError(file + ": empty file, no " + what + " header.");
+  }
+  const std::string at = file + ":" + std::to_string(headerLine) + ": ";
+  if (header.size() < expectedFields)
+  {
+    throw InvalidInputError(at + "the " + what + " header needs " +
+      std::to_string(expectedFields) + " numbers, found " + std::to_string(header.size()) + ".");
+  }
+  if (header[0] < 0 || static_cast<unsigned long long>(header[0]) > dataLines)
+  {
+    throw InvalidInputError(at + "the header announces " + std::to_string(header[0]) + " " +
+      what + " records but the file holds " + std::to_string(dataLines) +
+      " data lines (truncated file?).");
+  }
+  for (std::size_t i = 1; i < header.size(); ++i)
+  {
+    if (header[i] < 0 || header[i] > 1000)
+    {
+      throw InvalidInputError(
+        at + "implausible " + what + " header value " + std::to_string(header[i]) + ".");
+    }
+  }
+  return header;
+}
+
+} // namespace
+
+TetMesh readTetGenMesh(const std::string& path, MeshFileInfo* info)
+{
+  std::string base = path;
+  if (endsWith(base, ".node"))
+  {
+    base.resize(base.size() - 5);
+  }
+  else if (endsWith(base, ".ele"))
+  {
+    base.resize(base.size() - 4);
+  }
+  const std::string nodeFile = base + ".node", eleFile = base + ".ele";
+  // TetGen copies the name into a fixed buffer of FILENAMESIZE (1024) characters.
+  if (base.size() + 8 >= 1024)
+  {
+    throw InvalidInputError("TetGen file name too long (TetGen's limit is 1024 characters): " + path);
+  }
+
+  std::size_t nodeLines = 0, eleLines = 0;
+  const std::vector<long long> nodeHeader = checkedHeader(nodeFile, 1, "node", nodeLines);
+  if (nodeHeader.size() >= 2 && nodeHeader[1] != 3)
+  {
+    throw InvalidInputError(nodeFile + ": only 3-D meshes are supported (dimension " +
+      std::to_string(nodeHeader[1]) + ").");
+  }
+  const std::vector<long long> eleHeader = checkedHeader(eleFile, 1, "element", eleLines);
+  if (eleHeader.size() >= 2 && eleHeader[1] != 4 && eleHeader[1] != 10)
+  {
+    throw InvalidInputError(eleFile + ": elements must have 4 (or 10) nodes, the header says " +
+      std::to_string(eleHeader[1]) + ".");
+  }
+
+  tetgenio io;
+  bool loaded = false;
+  try
+  {
+    std::vector<char> name(base.begin(), base.end());
+    name.push_back('\0');
+    loaded = io.load_node(name.data()) && io.load_tet(name.data());
+  }
+  catch (int code)
+  {
+    throw InvalidInputError("TetGen could not read '" + base + ".node/.ele' (error code " +
+      std::to_string(code) + "): the file is malformed (TetGen's report is on the console).");
+  }
+  catch (const std::bad_alloc&)
+  {
+    throw InvalidInputError("TetGen could not read '" + base + ".node/.ele': out of memory.");
+  }
+  if (!loaded)
+  {
+    throw InvalidInputError("TetGen could not read '" + base +
+      ".node/.ele': the file is malformed or truncated (TetGen's report is on the console).");
+  }
+  if (io.mesh_dim != 3 || io.numberofpoints <= 0 || !io.pointlist)
+  {
+    throw InvalidInputError(nodeFile + ": no 3-D points.");
+  }
+  if (io.numberoftetrahedra <= 0 || !io.tetrahedronlist || io.numberofcorners < 4)
+  {
+    throw InvalidInputError(eleFile + ": no tetrahedra.");
+  }
+
+  TetMesh mesh;
+  mesh.points.resize(static_cast<std::size_t>(io.numberofpoints));
+  for (std::size_t i = 0; i < mesh.points.size(); ++i)
+  {
+    mesh.points[i] = Vec3(io.pointlist[3 * i], io.pointlist[3 * i + 1], io.pointlist[3 * i + 2]);
+    if (!mesh.points[i].allFinite())
+    {
+      throw InvalidInputError(
+        nodeFile + ": point " + std::to_string(i + io.firstnumber) + " has a non-finite coordinate.");
+    }
+  }
+  mesh.tets.resize(static_cast<std::size_t>(io.numberoftetrahedra));
+  const auto stride = static_cast<std::size_t>(io.numberofcorners);
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      // Indices in the file count from the first point's number (0 or 1).
+      const long long v = static_cast<long long>(io.tetrahedronlist[stride * t + c]) - io.firstnumber;
+      if (v < 0 || v >= io.numberofpoints)
+      {
+        throw InvalidInputError(eleFile + ": element " + std::to_string(t + io.firstnumber) +
+          " names point " + std::to_string(v + io.firstnumber) + ", which does not exist.");
+      }
+      mesh.tets[t][c] = static_cast<std::int32_t>(v);
+    }
+  }
+  if (info)
+  {
+    info->format = "TetGen";
+    info->skippedElements = 0;
+  }
+  return mesh;
+}
+
+} // namespace softbody
