@@ -724,7 +724,7 @@ void vtkSoftBodyFilter::FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid
   std::vector<double> seconds;
   for (const softbody::StageTiming& timing : simulation.stageTimings())
   {
-    plan.push_back(timing.stage);
+    plan.push_back(timing.label);
     seconds.push_back(timing.seconds);
   }
   field->AddArray(MakeStringArray("Plan", plan));

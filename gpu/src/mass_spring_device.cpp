@@ -88,13 +88,15 @@ void toArray(const Vec3& v, double (&out)[3])
 
 } // namespace
 
-MassSpringDevice::MassSpringDevice(const MassSpringSetup& setup)
+MassSpringDevice::MassSpringDevice(const MassSpringSetup& setup, const StepPlan& plan)
   : Scene(setup.scene)
+  , LimitsStrain(plan.runs(Stage::StrainLimit))
+  , HasFloor(plan.runs(Stage::Floor))
   , VertexCount(setup.topology.vertexCount)
   , EdgeCount(setup.topology.edges.size())
   , TetCount(setup.topology.tets.size())
   , HasVolumeTerm(setup.constants.hasVolumeTerm)
-  , Clock(kGpuStageCount)
+  , Clock(static_cast<std::size_t>(Stage::Count))
 {
   static_assert(sizeof(Edge) == 2 * sizeof(std::int32_t), "Edge must be two packed int32 (ivec2)");
   static_assert(sizeof(Tet) == 4 * sizeof(std::int32_t), "Tet must be four packed int32 (ivec4)");
@@ -120,7 +122,7 @@ MassSpringDevice::MassSpringDevice(const MassSpringSetup& setup)
   }
   SpringForces = vectorBuffer("spring forces", EdgeCount);
   TetScales = StorageBuffer("tet scales", sizeof(double) * (HasVolumeTerm ? TetCount : 0));
-  if (Scene.strainLimit > 0.0)
+  if (LimitsStrain)
   {
     EdgeCorrections = vectorBuffer("edge corrections", EdgeCount);
   }
@@ -150,7 +152,7 @@ void MassSpringDevice::downloadState(
 
 void MassSpringDevice::computeAccelerations(const StorageBuffer& x, const StorageBuffer& v)
 {
-  Clock.begin(kStageForces);
+  Clock.begin(static_cast<std::size_t>(Stage::Forces));
   const ComputeProgram& springs = Kernels.springForces;
   springs.use();
   springs.bind("Edges", Edges);
@@ -194,7 +196,7 @@ void MassSpringDevice::integrate(double h, double kick)
 {
   // The integrators of core's integrators.cpp; force evaluations are timed as "forces".
   auto timedUpdate = [&](const ComputeProgram& program) {
-    Clock.begin(kStageIntegrate);
+    Clock.begin(static_cast<std::size_t>(Stage::Integrate));
     program.dispatch(VertexCount);
     Clock.end();
   };
@@ -254,7 +256,7 @@ void MassSpringDevice::integrate(double h, double kick)
 
 void MassSpringDevice::limitStrain(double h)
 {
-  Clock.begin(kStageStrainLimit);
+  Clock.begin(static_cast<std::size_t>(Stage::StrainLimit));
   const ComputeProgram& corrections = Kernels.strainCorrections;
   const ComputeProgram& apply = Kernels.strainApply;
   for (int iteration = 0; iteration < Scene.strainLimitIterations; ++iteration)
@@ -284,7 +286,7 @@ void MassSpringDevice::limitStrain(double h)
 
 void MassSpringDevice::resolveFloor()
 {
-  Clock.begin(kStageFloor);
+  Clock.begin(static_cast<std::size_t>(Stage::Floor));
   const ComputeProgram& floor = Kernels.floorContacts;
   floor.use();
   floor.bind("InverseMasses", InverseMasses);
@@ -303,11 +305,11 @@ void MassSpringDevice::step(double h, double kick)
 {
   // Core's stage order (MassSpringSimulation::stepOnce).
   integrate(h, kick);
-  if (Scene.strainLimit > 0.0)
+  if (LimitsStrain)
   {
     limitStrain(h);
   }
-  if (Scene.floorEnabled)
+  if (HasFloor)
   {
     resolveFloor();
   }
@@ -315,7 +317,7 @@ void MassSpringDevice::step(double h, double kick)
 
 DivergenceProbe MassSpringDevice::probeDivergence()
 {
-  Clock.begin(kStageDivergenceCheck);
+  Clock.begin(static_cast<std::size_t>(Stage::DivergenceCheck));
   const ComputeProgram& probe = Kernels.divergencePartials;
   probe.use();
   probe.bind("Edges", Edges);

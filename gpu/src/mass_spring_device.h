@@ -7,6 +7,8 @@
 #include "stage_clock.h"
 #include "storage_buffer.h"
 
+#include "softbody/common/step_plan.h"
+#include "softbody/gpu/mass_spring_gpu_simulation.h" // DivergenceProbe
 #include "softbody/massspring/mass_spring_setup.h"
 
 #include <vector>
@@ -14,30 +16,13 @@
 namespace softbody::gpu
 {
 
-/// What the divergence check needs, reduced on the GPU.
-struct DivergenceProbe
-{
-  double maxStretch = 0.0; ///< largest l / l0; NaN if some length was not finite
-  bool finiteVelocities = true;
-};
-
-/// Stages timed on the GPU, in step order (as core's MassSpringSimulation names them).
-enum GpuStage
-{
-  kStageForces,
-  kStageIntegrate,
-  kStageStrainLimit,
-  kStageFloor,
-  kStageDivergenceCheck,
-  kGpuStageCount
-};
-
 class MassSpringDevice
 {
 public:
   /// Uploads the body's constants and its rest state. Throws GpuUnavailableError when a
   /// kernel does not compile or a buffer does not fit.
-  explicit MassSpringDevice(const MassSpringSetup& setup);
+  /// `plan` (core's planMassSpring) says which stages step() runs.
+  MassSpringDevice(const MassSpringSetup& setup, const StepPlan& plan);
 
   void uploadState(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities);
   void downloadState(std::vector<Vec3>& positions, std::vector<Vec3>& velocities) const;
@@ -47,7 +32,7 @@ public:
   void step(double h, double kick);
   DivergenceProbe probeDivergence();
 
-  /// GPU time per GpuStage so far (waits for the GPU to finish what was timed).
+  /// GPU time per Stage so far, indexed by the enum (waits for the GPU to finish what was timed).
   const std::vector<double>& stageSeconds();
 
 private:
@@ -58,6 +43,8 @@ private:
   void resolveFloor();
 
   SceneSettings Scene;
+  bool LimitsStrain = false; ///< the plan's decisions, taken once
+  bool HasFloor = false;
   std::size_t VertexCount = 0;
   std::size_t EdgeCount = 0;
   std::size_t TetCount = 0;

@@ -6,6 +6,8 @@
 
 #include "softbody/common/errors.h"
 #include "softbody/gpu/gpu_errors.h"
+#include "softbody/common/stepping.h"
+#include "softbody/massspring/mass_spring_plan.h"
 #include "softbody/massspring/mass_spring_setup.h"
 
 #include <chrono>
@@ -16,6 +18,7 @@ namespace softbody::gpu
 struct MassSpringGpuSimulation::Prepared
 {
   MassSpringSetup setup;
+  StepPlan plan; ///< core's mass-spring plan plus the transfers; timings refreshed on demand
 };
 
 namespace
@@ -29,15 +32,17 @@ double secondsSince(std::chrono::steady_clock::time_point start)
 } // namespace
 
 MassSpringGpuSimulation::MassSpringGpuSimulation(const BodyDescription& body, const SceneSettings& scene)
-  : Body(std::make_unique<Prepared>(Prepared{ prepareMassSpring(body, scene) }))
+  : Body(std::make_unique<Prepared>(Prepared{ prepareMassSpring(body, scene), {} }))
   , State(restState(Body->setup))
 {
+  Body->plan = planMassSpring(Body->setup);
+  Body->plan.add(Stage::Transfers);
   Thread = std::make_unique<GlThread>();
   try
   {
     Thread->run([this] {
       Context = std::make_unique<HeadlessGlContext>();
-      Device = std::make_unique<MassSpringDevice>(Body->setup);
+      Device = std::make_unique<MassSpringDevice>(Body->setup, Body->plan);
       Device->uploadState(State.positions, State.velocities);
     });
   }
@@ -101,45 +106,24 @@ void MassSpringGpuSimulation::checkDivergence(double maxStretch, bool finiteVelo
 
 AdvanceStatus MassSpringGpuSimulation::advance(double endTime, const ProgressCallback& progress)
 {
-  const StepSplit split = splitInterval(endTime - State.time, Body->setup.step);
-  if (split.count == 0)
-  {
-    return AdvanceStatus::Completed;
-  }
-  const double h = split.size;
-  const double startTime = State.time;
-  // Steps run in batches that end where core checks for divergence and reports progress
-  // (every kDivergenceCheckInterval steps and at the last one): one job and one small
-  // read-back per batch instead of a round trip per step.
-  unsigned long long done = 0;
-  while (done < split.count)
-  {
-    const unsigned long long batchEnd =
-      std::min(split.count, (done / kDivergenceCheckInterval + 1) * kDivergenceCheckInterval);
-    const unsigned long long batch = batchEnd - done;
+  // Core's advance loop; each batch of steps between two divergence checks is one job on the
+  // GL thread with one small read-back, instead of a round trip per step.
+  const auto runSteps = [&](double h, unsigned long long count, bool) {
     // Verlet kicks by the mean of the previous and current step (core: integrateStep).
     const double firstKick = 0.5 * (State.previousStep + h);
     const double laterKick = 0.5 * (h + h);
-    const DivergenceProbe probe = Thread->run([&] {
-      for (unsigned long long s = 0; s < batch; ++s)
+    LastProbe = Thread->run([&] {
+      for (unsigned long long s = 0; s < count; ++s)
       {
         Device->step(h, s == 0 ? firstKick : laterKick);
       }
       return Device->probeDivergence();
     });
-    done = batchEnd;
     HostStale = true;
-    State.stepCount += batch;
-    State.previousStep = h;
-    // Accumulating h would drift; the step index gives the time exactly.
-    State.time = (done == split.count) ? endTime : startTime + static_cast<double>(done) * h;
-    checkDivergence(probe.maxStretch, probe.finiteVelocities);
-    if (progress && !progress(double(done) / double(split.count)))
-    {
-      return AdvanceStatus::Aborted;
-    }
-  }
-  return AdvanceStatus::Completed;
+    State.stepCount += count;
+  };
+  return advanceInEqualSteps(State, Body->setup.step, endTime, progress, runSteps,
+    [&] { checkDivergence(LastProbe.maxStretch, LastProbe.finiteVelocities); });
 }
 
 const std::vector<Vec3>& MassSpringGpuSimulation::restPositions() const
@@ -186,27 +170,16 @@ const std::vector<std::string>& MassSpringGpuSimulation::warnings() const
   return Body->setup.warnings;
 }
 
-std::vector<StageTiming> MassSpringGpuSimulation::stageTimings() const
+const StepPlan& MassSpringGpuSimulation::stepPlan() const
 {
+  // GPU times arrive through GL queries: read them when asked for, not every step.
   const std::vector<double> seconds = Thread->run([this] { return Device->stageSeconds(); });
-  const MassSpringSetup& s = Body->setup;
-  // The stages core's MassSpringSimulation reports, under the same names.
-  std::vector<StageTiming> timings;
-  timings.push_back({ s.constants.hasVolumeTerm ? "forces: springs + volumes" : "forces: springs",
-    seconds[kStageForces] });
-  timings.push_back({ std::string("integrate: ") + integratorName(s.scene.integrator),
-    seconds[kStageIntegrate] });
-  if (s.scene.strainLimit > 0.0)
+  for (Stage stage : Body->plan.stages())
   {
-    timings.push_back({ "strain limit", seconds[kStageStrainLimit] });
+    Body->plan.seconds(stage) =
+      stage == Stage::Transfers ? TransferSeconds : seconds[static_cast<std::size_t>(stage)];
   }
-  if (s.scene.floorEnabled)
-  {
-    timings.push_back({ "floor", seconds[kStageFloor] });
-  }
-  timings.push_back({ "divergence check", seconds[kStageDivergenceCheck] });
-  timings.push_back({ "transfers: host <-> GPU", TransferSeconds });
-  return timings;
+  return Body->plan;
 }
 
 std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(

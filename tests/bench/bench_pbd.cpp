@@ -30,16 +30,16 @@ using namespace softbody;
 
 namespace
 {
-double stageSeconds(const PbdSimulation& sim, const std::string& prefix)
+/// Time spent projecting constraints (every solve stage of the plan), residual excluded.
+double solveSeconds(const PbdSimulation& sim)
 {
-  for (const StageTiming& t : sim.stageTimings())
+  const StepPlan& plan = sim.stepPlan();
+  double seconds = 0.0;
+  for (Stage stage : { Stage::SolveLinks, Stage::SolveVolumes, Stage::SolveAttachments, Stage::SolveFloor })
   {
-    if (t.stage.find(prefix) != std::string::npos)
-    {
-      return t.seconds;
-    }
+    seconds += plan.runs(stage) ? plan.seconds(stage) : 0.0;
   }
-  return 0.0;
+  return seconds;
 }
 
 struct SolverCase
@@ -87,7 +87,7 @@ void convergence(const bench::Options& options, int maxThreads)
       sim.setRecordResidualsEveryStep(true);
       sim.step(1.0 / 60.0);
       const std::vector<double>& r = sim.convergence().residualHistory;
-      const double perIteration = stageSeconds(sim, ": links") / iterations;
+      const double perIteration = solveSeconds(sim) / iterations;
       for (std::size_t k = 0; k < r.size(); ++k)
       {
         csv << n << 'x' << n << ',' << c.name << ',' << c.threads << ',' << k + 1 << ',' << r[k] << ','
@@ -143,7 +143,7 @@ void throughput(const bench::Options& options, int maxThreads)
         {
           sim->step(1.0 / 120.0);
         }
-        const double seconds = stageSeconds(*sim, ": links");
+        const double seconds = solveSeconds(*sim);
         const double iterations = double(steps) * settings.iterations;
         const double projections = double(sim->links().size() + sim->volumes().size()) * iterations;
         const std::uint64_t hash = bench::hashPositions(sim->positions());

@@ -143,17 +143,6 @@ DynamicState restState(const MassSpringSetup& setup)
   return state;
 }
 
-StepSplit splitInterval(double interval, double maxStep)
-{
-  if (!(interval > 0.0))
-  {
-    return {};
-  }
-  // The same split as every CPU stepper's advanceInEqualSteps (stepping.h).
-  const unsigned long long count = equalStepCount(interval, maxStep);
-  return { count, interval / static_cast<double>(count) };
-}
-
 bool hasDiverged(const SceneSettings& scene, double maxStretch, bool finiteVelocities)
 {
   // Written so that a NaN stretch counts as diverged.

@@ -2,6 +2,7 @@
 
 #include "softbody/common/errors.h"
 #include "softbody/massspring/floor_contact.h"
+#include "softbody/massspring/mass_spring_plan.h"
 #include "softbody/massspring/mass_spring_setup.h"
 
 #include "softbody/common/parallel.h"
@@ -10,25 +11,6 @@
 
 namespace softbody
 {
-namespace
-{
-
-// Stage indices into StageSeconds, in step order.
-enum Stage
-{
-  kForces,
-  kIntegrate,
-  kStrainLimit,
-  kFloor,
-  kDivergenceCheck,
-  kStageCount
-};
-constexpr const char* kStageNames[kStageCount] = { "forces", "integrate", "strain limit", "floor",
-  "divergence check" };
-
-
-} // namespace
-
 /// Accelerations a_i = g + w_i f_i for free points, 0 for pinned and massless ones.
 class MassSpringSimulation::Forces final : public AccelerationEvaluator
 {
@@ -40,7 +22,7 @@ public:
   void evaluate(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
     std::vector<Vec3>& accelerations) const override
   {
-    ScopedStageTimer timer(Owner.StageSeconds[kForces]);
+    ScopedStageTimer timer(Owner.Plan, Stage::Forces);
     computeInternalForces(
       Owner.Topo, Owner.Constants, positions, velocities, Owner.ForceWork, accelerations);
     const std::vector<double>& w = Owner.Masses.inverseMass;
@@ -55,10 +37,10 @@ private:
 };
 
 MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSettings& scene)
-  : StageSeconds(kStageCount, 0.0)
 {
   // Set-up shared with the GPU stepper (mass_spring_setup.h).
   MassSpringSetup setup = prepareMassSpring(std::move(body), scene);
+  Plan = planMassSpring(setup);
   Scene = setup.scene;
   State = restState(setup);
   Mesh = std::move(setup.mesh);
@@ -81,27 +63,6 @@ void MassSpringSimulation::restoreState(const DynamicState& snapshot)
   State = snapshot;
 }
 
-std::vector<StageTiming> MassSpringSimulation::stageTimings() const
-{
-  // Only the stages this scene runs, named for what they do here. "integrate" was timed around
-  // the force evaluations too; it is reported net of them.
-  std::vector<StageTiming> timings;
-  timings.push_back({ Constants.hasVolumeTerm ? "forces: springs + volumes" : "forces: springs",
-    StageSeconds[kForces] });
-  timings.push_back({ std::string("integrate: ") + integratorName(Scene.integrator),
-    StageSeconds[kIntegrate] - StageSeconds[kForces] });
-  if (Scene.strainLimit > 0.0)
-  {
-    timings.push_back({ kStageNames[kStrainLimit], StageSeconds[kStrainLimit] });
-  }
-  if (Scene.floorEnabled)
-  {
-    timings.push_back({ kStageNames[kFloor], StageSeconds[kFloor] });
-  }
-  timings.push_back({ kStageNames[kDivergenceCheck], StageSeconds[kDivergenceCheck] });
-  return timings;
-}
-
 std::vector<double> MassSpringSimulation::tetVolumeRatios() const
 {
   std::vector<double> ratios(Topo.tets.size());
@@ -117,27 +78,33 @@ std::vector<double> MassSpringSimulation::tetVolumeRatios() const
 void MassSpringSimulation::stepOnce(double h)
 {
   {
-    ScopedStageTimer timer(StageSeconds[kIntegrate]);
-    integrateStep(Scene.integrator, h, Forces(*this), State, IntegratorWork);
+    // The integrator evaluates the forces (timed as Stage::Forces); Integrate is its own time.
+    const double forcesBefore = Plan.seconds(Stage::Forces);
+    double integrateAndForces = 0.0;
+    {
+      ScopedStageTimer timer(integrateAndForces);
+      integrateStep(Scene.integrator, h, Forces(*this), State, IntegratorWork);
+    }
+    Plan.seconds(Stage::Integrate) += integrateAndForces - (Plan.seconds(Stage::Forces) - forcesBefore);
   }
-  if (Scene.strainLimit > 0.0)
+  if (Plan.runs(Stage::StrainLimit))
   {
-    ScopedStageTimer timer(StageSeconds[kStrainLimit]);
+    ScopedStageTimer timer(Plan, Stage::StrainLimit);
     // Verlet's velocity is the position difference of the last step: a moved point moves it.
     limitStrain(Topo, Constants, Masses.inverseMass, Scene.strainLimit,
       Scene.strainLimitIterations, Scene.integrator == Integrator::Verlet, h, State.positions,
       State.velocities, StrainWork);
   }
-  if (Scene.floorEnabled)
+  if (Plan.runs(Stage::Floor))
   {
-    ScopedStageTimer timer(StageSeconds[kFloor]);
+    ScopedStageTimer timer(Plan, Stage::Floor);
     resolveFloorContacts(Scene.floor, Masses.inverseMass, State.positions, State.velocities);
   }
 }
 
 void MassSpringSimulation::checkDivergence() const
 {
-  ScopedStageTimer timer(StageSeconds[kDivergenceCheck]);
+  ScopedStageTimer timer(Plan, Stage::DivergenceCheck);
   const double stretch = maxStretchRatio(Topo, Constants, State.positions);
   bool finiteVelocities = true;
   for (const Vec3& v : State.velocities)
@@ -153,8 +120,9 @@ void MassSpringSimulation::checkDivergence() const
 
 AdvanceStatus MassSpringSimulation::advance(double endTime, const ProgressCallback& progress)
 {
-  return advanceInEqualSteps(State, Step, endTime, progress, kDivergenceCheckInterval,
-    [&](double h, bool) { stepOnce(h); }, [&] { checkDivergence(); });
+  const auto stepOnceAt = [&](double h, bool) { stepOnce(h); };
+  return advanceInEqualSteps(State, Step, endTime, progress, oneStepAtATime(stepOnceAt),
+    [&] { checkDivergence(); });
 }
 
 } // namespace softbody

@@ -28,7 +28,7 @@ void PbdSimulation::projectFloor()
 
 void PbdSimulation::applyContactResponse(double h)
 {
-  ScopedStageTimer timer(StageSeconds[kContacts]);
+  ScopedStageTimer timer(Plan, Stage::ContactResponse);
   const Vec3& n = Settings.floor.normal;
   // Below this approach speed a contact is resting: bouncing it would make bodies jitter.
   const double restingSpeed = 2.0 * Settings.gravity.norm() * h;
@@ -58,7 +58,7 @@ void PbdSimulation::applyContactResponse(double h)
 
 void PbdSimulation::updateLinks(double h)
 {
-  ScopedStageTimer timer(StageSeconds[kLinks]);
+  ScopedStageTimer timer(Plan, Stage::UpdateLinks);
   const std::vector<Vec3>& x = State.positions;
   const double breaking = Settings.breakingStrain;
   const double yield = Settings.plasticYield;

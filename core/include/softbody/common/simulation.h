@@ -4,6 +4,7 @@
 
 #include "softbody/common/geometry.h"
 #include "softbody/common/state.h"
+#include "softbody/common/step_plan.h"
 
 #include <functional>
 #include <string>
@@ -19,12 +20,6 @@ enum class AdvanceStatus
 {
   Completed,
   Aborted
-};
-
-struct StageTiming
-{
-  std::string stage;
-  double seconds = 0.0; ///< accumulated wall time since construction
 };
 
 class Simulation
@@ -60,18 +55,11 @@ public:
 
   /// Everything worth telling the user once (clamped parameters, re-oriented tets, ...).
   virtual const std::vector<std::string>& warnings() const = 0;
-  /// The stages this scene runs per step, in order (only those it needs), with the wall time
-  /// spent in each so far.
-  virtual std::vector<StageTiming> stageTimings() const = 0;
-  std::vector<std::string> plan() const
-  {
-    std::vector<std::string> names;
-    for (const StageTiming& timing : stageTimings())
-    {
-      names.push_back(timing.stage);
-    }
-    return names;
-  }
+  /// The stages this scene runs per step, in order (only those it needs), each with the wall
+  /// time spent in it so far. Decided once by the method's planner.
+  virtual const StepPlan& stepPlan() const = 0;
+  std::vector<Stage> plan() const { return stepPlan().stages(); }
+  std::vector<StageTiming> stageTimings() const { return stepPlan().timings(); }
 };
 
 } // namespace softbody

@@ -34,18 +34,6 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
 /// Initial state: rest positions, zero velocities, time 0.
 DynamicState restState(const MassSpringSetup& setup);
 
-/// A divergence check costs one pass over the edges; every few steps is enough to stop within
-/// a small fraction of a frame. Progress is reported at the same steps.
-constexpr unsigned long long kDivergenceCheckInterval = 16;
-
-/// How advance() splits [time, endTime] into equal steps no larger than maxStep.
-struct StepSplit
-{
-  unsigned long long count = 0; ///< 0 when endTime is not after time
-  double size = 0.0;            ///< [s]
-};
-StepSplit splitInterval(double interval, double maxStep);
-
 /// True when the state must be declared diverged: `maxStretch` is the largest l / l0 (NaN if a
 /// position is not finite), `finiteVelocities` whether every velocity is finite.
 bool hasDiverged(const SceneSettings& scene, double maxStretch, bool finiteVelocities);

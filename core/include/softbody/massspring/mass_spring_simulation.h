@@ -43,7 +43,7 @@ public:
   /// Everything worth telling the user: re-oriented tets, clamped parameters, a step above
   /// the stability estimate, truncated inverse masses.
   const std::vector<std::string>& warnings() const override { return Warnings; }
-  std::vector<StageTiming> stageTimings() const override;
+  const StepPlan& stepPlan() const override { return Plan; }
 
 private:
   class Forces;
@@ -62,7 +62,7 @@ private:
   double StableStep = 0.0;
   double OmegaMax = 0.0;
   std::vector<std::string> Warnings;
-  mutable std::vector<double> StageSeconds; // forces, integrate, strain limit, floor, checks
+  mutable StepPlan Plan; // stages and their timers (timed from const force evaluations)
   mutable ForceScratch ForceWork;
   mutable std::vector<Vec3> ForceBuffer;
 };

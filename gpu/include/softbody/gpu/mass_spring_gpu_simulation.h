@@ -25,6 +25,12 @@ namespace softbody::gpu
 class GlThread;
 class HeadlessGlContext;
 class MassSpringDevice;
+/// What the divergence check needs, reduced on the GPU.
+struct DivergenceProbe
+{
+  double maxStretch = 0.0; ///< largest l / l0; NaN if some length was not finite
+  bool finiteVelocities = true;
+};
 
 class MassSpringGpuSimulation final : public Simulation
 {
@@ -48,8 +54,8 @@ public:
   double stepSize() const override;
   double estimatedStableStep() const override;
   const std::vector<std::string>& warnings() const override;
-  /// Core's stages timed on the GPU (GL_TIME_ELAPSED), plus the host<->GPU transfers.
-  std::vector<StageTiming> stageTimings() const override;
+  /// Core's mass-spring plan timed on the GPU (GL_TIME_ELAPSED), plus the host<->GPU transfers.
+  const StepPlan& stepPlan() const override;
 
   const std::string& glRenderer() const { return Renderer; } ///< GL_RENDERER of the context
   const std::string& glVersion() const { return Version; }   ///< GL_VERSION of the context
@@ -61,6 +67,7 @@ private:
   std::unique_ptr<Prepared> Body; // core's set-up: host-side, immutable
   mutable DynamicState State;     // host copy; positions/velocities stale when HostStale
   mutable bool HostStale = false;
+  DivergenceProbe LastProbe; // of the last batch of steps
   mutable double TransferSeconds = 0.0;
   std::string Renderer;
   std::string Version;

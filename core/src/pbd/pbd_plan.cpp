@@ -1,0 +1,92 @@
+#include "softbody/pbd/pbd_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace softbody
+{
+namespace
+{
+
+/// Whether a constraint type of this material can move a particle. Per-element compliances
+/// (XPBD from Young's modulus) are infinite where the element has no stiffness.
+bool canMove(const PbdSettings& settings, const ConstraintMaterial& material,
+  const std::vector<double>& perElementCompliance)
+{
+  if (settings.formulation == PbdFormulation::Pbd)
+  {
+    return material.stiffness > 0.0;
+  }
+  if (perElementCompliance.empty())
+  {
+    return std::isfinite(material.compliance);
+  }
+  return std::any_of(perElementCompliance.begin(), perElementCompliance.end(),
+    [](double alpha) { return std::isfinite(alpha); });
+}
+
+} // namespace
+
+const char* pbdSolverName(PbdSolver solver, double relaxation)
+{
+  switch (solver)
+  {
+    case PbdSolver::Jacobi:
+      return "Jacobi";
+    case PbdSolver::ParallelGaussSeidel:
+      return "parallel Gauss-Seidel";
+    case PbdSolver::GaussSeidel:
+      break;
+  }
+  return relaxation == 1.0 ? "Gauss-Seidel" : "SOR";
+}
+
+StepPlan planPbd(const PbdSettings& settings, const DistanceBatch& links,
+  const VolumeBatch& volumes, const AttachmentBatch& attachments)
+{
+  const std::string solver = std::string(settings.formulation == PbdFormulation::Xpbd ? "XPBD " : "PBD ") +
+    pbdSolverName(settings.solver, settings.relaxation);
+  StepPlan plan;
+  plan.add(Stage::Predict,
+    settings.prediction == PbdPrediction::Verlet ? "Verlet" : "symplectic Euler");
+  if (links.size() > 0 && canMove(settings, settings.links, links.compliance))
+  {
+    plan.add(Stage::SolveLinks, solver);
+  }
+  if (volumes.size() > 0 && canMove(settings, settings.volumes, volumes.compliance))
+  {
+    plan.add(Stage::SolveVolumes, solver);
+  }
+  if (attachments.size() > 0 && canMove(settings, settings.attachments, {}))
+  {
+    plan.add(Stage::SolveAttachments, solver);
+  }
+  if (settings.floorEnabled)
+  {
+    plan.add(Stage::SolveFloor);
+  }
+  if (settings.residualTolerance > 0.0)
+  {
+    plan.add(Stage::Residual, "every iteration (tolerance)");
+  }
+  else if (settings.reportConvergence)
+  {
+    plan.add(Stage::Residual, "last step of each frame");
+  }
+  plan.add(Stage::UpdateVelocities);
+  if (settings.floorEnabled && (settings.friction > 0.0 || settings.restitution > 0.0))
+  {
+    plan.add(Stage::ContactResponse);
+  }
+  // A yield without creep never changes a rest length, so only breaking or flowing links
+  // need the pass.
+  if (settings.breakingStrain > 0.0 || (settings.plasticYield > 0.0 && settings.plasticCreep > 0.0))
+  {
+    plan.add(Stage::UpdateLinks);
+  }
+  plan.add(Stage::DivergenceCheck);
+  return plan;
+}
+
+} // namespace softbody

@@ -1,0 +1,303 @@
+// PBD/XPBD set-up: validation, the constraint batches, masses and pins, the solver's schedules
+// and the step plan. The stepping itself is in pbd_simulation.cpp.
+#include "softbody/pbd/pbd_simulation.h"
+
+#include "softbody/common/errors.h"
+#include "softbody/material/mass.h"
+#include "softbody/material/material.h"
+#include "softbody/mesh/tet_mesh.h"
+#include "softbody/pbd/pbd_plan.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace softbody
+{
+namespace
+{
+
+void validateSettings(const PbdSettings& s)
+{
+  auto fail = [](const std::string& message) { throw InvalidInputError(message); };
+  if (!(s.timeStep >= 0.0) || !std::isfinite(s.timeStep))
+  {
+    fail("TimeStep must be 0 (automatic) or a positive number of seconds.");
+  }
+  if (s.substeps < 1 || s.iterations < 1)
+  {
+    fail("Substeps and Iterations must be at least 1.");
+  }
+  if (!(s.residualTolerance >= 0.0) || !std::isfinite(s.residualTolerance))
+  {
+    fail("ResidualTolerance must be 0 (fixed iteration count) or positive.");
+  }
+  if (!(s.relaxation > 0.0 && s.relaxation < 2.0))
+  {
+    fail("Relaxation must lie in (0, 2); 1 is plain Gauss-Seidel or Jacobi.");
+  }
+  if (!s.gravity.allFinite() || !(s.damping >= 0.0) || !std::isfinite(s.damping))
+  {
+    fail("Gravity must be finite and Damping a non-negative rate [1/s].");
+  }
+  if (s.floorEnabled && (!(s.floor.normal.norm() > 0.0) || !s.floor.normal.allFinite() ||
+                          !s.floor.origin.allFinite()))
+  {
+    fail("FloorNormal must be a nonzero finite vector and FloorOrigin finite.");
+  }
+  if (!(s.particleRadius >= 0.0) || !(s.friction >= 0.0) || !std::isfinite(s.friction) ||
+    !(s.restitution >= 0.0 && s.restitution <= 1.0))
+  {
+    fail("ParticleRadius and Friction must be non-negative and Restitution in [0, 1].");
+  }
+  for (const ConstraintMaterial* m : { &s.links, &s.volumes, &s.attachments })
+  {
+    if (!(m->stiffness >= 0.0 && m->stiffness <= 1.0))
+    {
+      fail("PBD stiffnesses must lie in [0, 1].");
+    }
+    if (!(m->compliance >= 0.0) || !std::isfinite(m->compliance))
+    {
+      fail("XPBD compliances must be non-negative and finite.");
+    }
+  }
+  if (!(s.breakingStrain >= 0.0) || !(s.plasticYield >= 0.0) || !(s.plasticCreep >= 0.0) ||
+    !std::isfinite(s.breakingStrain + s.plasticYield + s.plasticCreep))
+  {
+    fail("BreakingStrain, PlasticYield and PlasticCreep must be non-negative (0 = off).");
+  }
+}
+
+bool hardAttachment(const PbdSettings& s)
+{
+  return s.formulation == PbdFormulation::Pbd ? s.attachments.stiffness >= 1.0
+                                              : s.attachments.compliance == 0.0;
+}
+
+} // namespace
+
+PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
+  : Settings(settings)
+{
+  validateSettings(Settings);
+  Settings.floor.normal.normalize();
+  const std::size_t n = body.points.size();
+  if (n == 0)
+  {
+    throw InvalidInputError("The input has no points.");
+  }
+  if (body.tets.empty() && body.links.empty())
+  {
+    throw InvalidInputError("PBD needs tetrahedra or line cells (links) to hold the particles "
+                            "together; the input has neither.");
+  }
+  for (const Vec3& p : body.points)
+  {
+    if (!p.allFinite())
+    {
+      throw InvalidInputError("The input has points with NaN or infinite coordinates.");
+    }
+  }
+
+  // Tets: the same validation as mass-spring (degenerate refused, inverted re-oriented or
+  // refused by policy).
+  Topology topology;
+  if (!body.tets.empty())
+  {
+    TetMesh mesh{ body.points, std::move(body.tets) };
+    std::vector<std::string> meshWarnings;
+    mesh = prepareTetMesh(std::move(mesh), Settings.invertedTets, meshWarnings);
+    for (const std::string& w : meshWarnings)
+    {
+      // Points outside every tet are expected here when links hold them.
+      if (body.links.empty() || w.find("belong to no") == std::string::npos)
+      {
+        Warnings.push_back(w);
+      }
+    }
+    topology = buildTopology(n, std::move(mesh.tets));
+  }
+
+  // Distance links: tet edges first, then the explicit links in input order.
+  for (const Edge& e : topology.edges)
+  {
+    Links.ends.push_back({ e.a, e.b });
+  }
+  ExplicitLinkOffset = Links.ends.size();
+  if (!body.linkStiffnessScale.empty() && body.linkStiffnessScale.size() != body.links.size())
+  {
+    throw InvalidInputError("The link stiffness array must have one value per link.");
+  }
+  for (std::size_t j = 0; j < body.links.size(); ++j)
+  {
+    const auto& l = body.links[j];
+    if (l[0] < 0 || l[1] < 0 || std::size_t(l[0]) >= n || std::size_t(l[1]) >= n || l[0] == l[1])
+    {
+      throw InvalidInputError("Link " + std::to_string(j) + " refers to a missing point or links a point to itself.");
+    }
+    Links.ends.push_back(l);
+  }
+  Links.stiffnessScale.assign(Links.ends.size(), 1.0);
+  for (std::size_t j = 0; j < body.linkStiffnessScale.size(); ++j)
+  {
+    const double scale = body.linkStiffnessScale[j];
+    if (!(scale > 0.0) || !std::isfinite(scale))
+    {
+      throw InvalidInputError("Link stiffness factors must be positive; link " + std::to_string(j) + " has " + std::to_string(scale) + ".");
+    }
+    Links.stiffnessScale[ExplicitLinkOffset + j] = scale;
+  }
+  for (const auto& e : Links.ends)
+  {
+    const double length = (body.points[e[0]] - body.points[e[1]]).norm();
+    if (!(length > 0.0))
+    {
+      throw InvalidInputError("A link joins two coincident points (zero rest length); merge them first.");
+    }
+    Links.originalRest.push_back(length);
+  }
+  Links.rest = Links.originalRest;
+  Links.broken.assign(Links.size(), 0);
+  Links.lambda.assign(Links.size(), 0.0);
+
+  Volumes.tets = topology.tets;
+  for (const Tet& t : Volumes.tets)
+  {
+    Volumes.restVolume.push_back(
+      signedTetVolume(body.points[t[0]], body.points[t[1]], body.points[t[2]], body.points[t[3]]));
+  }
+  Volumes.broken.assign(Volumes.size(), 0);
+  Volumes.lambda.assign(Volumes.size(), 0.0);
+  if (Settings.elasticity.enabled && Settings.formulation == PbdFormulation::Xpbd && !Volumes.tets.empty())
+  {
+    setComplianceFromElasticity(topology, body.points);
+  }
+
+  // Masses: given per point, or density times the tet volumes.
+  std::vector<double> mass;
+  if (!body.pointMass.empty())
+  {
+    if (body.pointMass.size() != n)
+    {
+      throw InvalidInputError("The Mass array must have one value per point.");
+    }
+    for (double m : body.pointMass)
+    {
+      if (!(m > 0.0) || !std::isfinite(m))
+      {
+        throw InvalidInputError("Every point mass must be positive and finite.");
+      }
+    }
+    mass = body.pointMass;
+  }
+  else
+  {
+    if (!(body.density > 0.0) || !std::isfinite(body.density))
+    {
+      throw InvalidInputError("Density must be positive.");
+    }
+    if (Volumes.tets.empty())
+    {
+      throw InvalidInputError("A body of links only needs a point array \"Mass\" (the Soft Body "
+                              "Cloth and Voxelize sources write one).");
+    }
+    double volume = 0.0;
+    for (double v : Volumes.restVolume)
+    {
+      volume += v;
+    }
+    const PointMasses distributed = distributeMass(topology, Volumes.restVolume,
+      body.density * volume, body.massDistribution, 0.0, {});
+    mass = distributed.mass;
+    for (const auto& e : Links.ends)
+    {
+      if (mass[e[0]] <= 0.0 || mass[e[1]] <= 0.0)
+      {
+        throw InvalidInputError("Some linked points belong to no tet and so have no mass; give "
+                                "the input a point array \"Mass\".");
+      }
+    }
+  }
+
+  // Pins: fixed points (w = 0) when hard, otherwise soft attachments to the rest position.
+  const bool hardPins = hardAttachment(Settings);
+  if (!body.pinned.empty() && body.pinned.size() != n)
+  {
+    throw InvalidInputError("The pinned-points array must have one value per point.");
+  }
+  InverseMass.assign(n, 0.0);
+  Movable.assign(n, 1);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    TotalMass += mass[i];
+    const bool pinned = !body.pinned.empty() && body.pinned[i] != 0;
+    if (mass[i] > 0.0 && !(pinned && hardPins))
+    {
+      InverseMass[i] = 1.0 / mass[i];
+    }
+    Movable[i] = InverseMass[i] > 0.0 ? 1 : 0;
+    if (pinned && !hardPins)
+    {
+      Attachments.particle.push_back(static_cast<std::int32_t>(i));
+      Attachments.target.push_back(body.points[i]);
+    }
+  }
+  Attachments.lambda.assign(Attachments.size(), 0.0);
+
+  // Only what the chosen solver uses: colors for parallel Gauss-Seidel, slots for Jacobi.
+  if (Settings.solver != PbdSolver::GaussSeidel)
+  {
+    LinkSchedule = makeSchedule(Links, n, Movable);
+    VolumeSchedule = makeSchedule(Volumes, n, Movable);
+    AttachmentSchedule = makeSchedule(Attachments, n, Movable);
+  }
+  if (Settings.breakingStrain > 0.0)
+  {
+    TetEdges = topology.tetEdges;
+  }
+  if (Settings.solver == PbdSolver::ParallelGaussSeidel)
+  {
+    storeLinksAndVolumesByColor();
+  }
+
+  Rest = std::move(body.points);
+  State.positions = Rest;
+  State.velocities.assign(n, Vec3::Zero());
+  Plan = planPbd(Settings, Links, Volumes, Attachments);
+  // Rest lengths and broken flags are state (snapshotted, restored) only where they change.
+  if (Plan.runs(Stage::UpdateLinks))
+  {
+    State.linkRestLengths = Links.rest;
+    State.linkBroken = Links.broken;
+  }
+  Step = Settings.timeStep > 0.0 ? Settings.timeStep : kDefaultPbdStep;
+  if (Settings.plasticYield > 0.0 && Settings.plasticCreep == 0.0)
+  {
+    Warnings.push_back("PlasticYield is set but PlasticCreep is 0, so links never flow.");
+  }
+}
+
+void PbdSimulation::setComplianceFromElasticity(const Topology& topology, const std::vector<Vec3>& rest)
+{
+  MaterialSettings material;
+  material.mode = MaterialMode::Physical;
+  material.physical.youngsModulus = Settings.elasticity.youngsModulus;
+  material.physical.poissonRatio = Settings.elasticity.poissonRatio;
+  material.physical.dampingTime = 0.0;
+  // The mass-spring constants are k / l0^2 [N/m] per edge and k_V / V0^2 per tet: exactly the
+  // stiffness of C = l - l0 and C = V - V0, so the compliances are their inverses.
+  const ElementConstants constants = computeElementConstants(topology, rest, material, Warnings);
+  Links.compliance.assign(Links.size(), Settings.links.compliance);
+  for (std::size_t e = 0; e < ExplicitLinkOffset; ++e)
+  {
+    Links.compliance[e] = 1.0 / constants.springStiffness[e];
+  }
+  Volumes.compliance.resize(Volumes.size());
+  for (std::size_t t = 0; t < Volumes.size(); ++t)
+  {
+    const double k = constants.volumeStiffness[t];
+    Volumes.compliance[t] = k > 0.0 ? 1.0 / k : std::numeric_limits<double>::infinity();
+  }
+}
+
+} // namespace softbody
