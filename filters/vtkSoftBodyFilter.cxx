@@ -1,8 +1,10 @@
 #include "vtkSoftBodyFilter.h"
 
+#include "vtkSoftBodyArrays.h"
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyInputConversion.h"
 #include "vtkSoftBodyPbdAdapter.h"
+#include "vtkSoftBodySettings.h"
 #include "vtkSoftBodySkin.h"
 
 #include "vtkCellArray.h"
@@ -23,6 +25,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/common/stepping.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #ifdef SOFTBODY_WITH_GPU
 #include "softbody/gpu/mass_spring_gpu_simulation.h"
@@ -36,77 +39,12 @@
 
 vtkStandardNewMacro(vtkSoftBodyFilter);
 
+using vtkSoftBodyArrays::MakeScalarArray;
+using vtkSoftBodyArrays::MakeStringArray;
+using vtkSoftBodyArrays::MakeVectorArray;
+
 namespace
 {
-// More frames than this is a typo (e.g. FrameInterval in ms), not a plan; the advertised list of
-// times would also grow unreasonably.
-constexpr double kMaxFrames = 1.0e6;
-
-softbody::Integrator CoreIntegrator(int integrator)
-{
-  switch (integrator)
-  {
-    case vtkSoftBodyFilter::EULER:
-      return softbody::Integrator::Euler;
-    case vtkSoftBodyFilter::MIDPOINT:
-      return softbody::Integrator::Midpoint;
-    case vtkSoftBodyFilter::VERLET:
-      return softbody::Integrator::Verlet;
-    default:
-      return softbody::Integrator::EulerCromer;
-  }
-}
-
-bool IsFinite(const double v[3])
-{
-  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
-
-softbody::Vec3 ToVec3(const double v[3])
-{
-  return softbody::Vec3(v[0], v[1], v[2]);
-}
-
-// Copies core's vectors into a new 3-component VTK array. A copy, not zero-copy: the
-// simulation overwrites its arrays on the next request while the output may still be in use.
-vtkSmartPointer<vtkDoubleArray> MakeVectorArray(
-  const char* name, const std::vector<softbody::Vec3>& values)
-{
-  static_assert(sizeof(softbody::Vec3) == 3 * sizeof(double), "Vec3 must be 3 packed doubles");
-  auto array = vtkSmartPointer<vtkDoubleArray>::New();
-  array->SetName(name);
-  array->SetNumberOfComponents(3);
-  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
-  if (!values.empty())
-  {
-    const double* first = values.front().data();
-    std::copy(first, first + 3 * values.size(), array->GetPointer(0));
-  }
-  return array;
-}
-
-vtkSmartPointer<vtkDoubleArray> MakeScalarArray(const char* name, const std::vector<double>& values)
-{
-  auto array = vtkSmartPointer<vtkDoubleArray>::New();
-  array->SetName(name);
-  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
-  std::copy(values.begin(), values.end(), array->GetPointer(0));
-  return array;
-}
-
-vtkSmartPointer<vtkStringArray> MakeStringArray(
-  const char* name, const std::vector<std::string>& values)
-{
-  auto array = vtkSmartPointer<vtkStringArray>::New();
-  array->SetName(name);
-  array->SetNumberOfValues(static_cast<vtkIdType>(values.size()));
-  for (std::size_t i = 0; i < values.size(); ++i)
-  {
-    array->SetValue(static_cast<vtkIdType>(i), values[i]);
-  }
-  return array;
-}
-
 // Names of the devices in field data "Device" (the XML's enumeration texts).
 constexpr const char* kDeviceNames[] = { "CPU", "GPU (EGL)" };
 
@@ -156,12 +94,11 @@ public:
   /// Grid frame the simulation's state is exactly at; -1 when between frames or unknown.
   int SimulationFrame = -1;
 
-  // The cache key: which input (object and modification time) and which parameters the
+  // The cache key: which input (object and modification time) and which core settings the
   // simulation was built from.
   const vtkDataObject* Input = nullptr; // identity only, never dereferenced
   vtkMTimeType InputMTime = 0;
-  std::vector<double> Parameters;
-  std::string PinnedPointsArray;
+  vtkSoftBodyCoreSettings Settings;
 
   // The device the simulation runs on (may differ from the Device property after a fallback).
   int DeviceUsed = vtkSoftBodyFilter::DEVICE_CPU;
@@ -175,7 +112,6 @@ public:
     this->Cache.Clear();
     this->SimulationFrame = -1;
     this->Input = nullptr;
-    this->Parameters.clear();
     this->DeviceUsed = vtkSoftBodyFilter::DEVICE_CPU;
     this->GLRenderer.clear();
     this->DeviceWarning.clear();
@@ -190,11 +126,11 @@ vtkSoftBodyFilter::vtkSoftBodyFilter()
   this->SetNumberOfOutputPorts(4);
   // One source of truth for the raw-mode defaults: core's RawConstants.
   const softbody::RawConstants raw;
-  this->DistanceStiffness = raw.distanceStiffness;
-  this->DistanceDamping = raw.distanceDamping;
-  this->VolumeStiffness = raw.volumeStiffness;
-  this->VolumeDamping = raw.volumeDamping;
-  this->TotalMass = raw.totalMass;
+  this->P.DistanceStiffness = raw.distanceStiffness;
+  this->P.DistanceDamping = raw.distanceDamping;
+  this->P.VolumeStiffness = raw.volumeStiffness;
+  this->P.VolumeDamping = raw.volumeDamping;
+  this->P.TotalMass = raw.totalMass;
 }
 
 //------------------------------------------------------------------------------
@@ -229,68 +165,6 @@ int vtkSoftBodyFilter::FillOutputPortInformation(int port, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
-std::string vtkSoftBodyFilter::ValidateParameters() const
-{
-  // Written as !(x > 0) so that NaN (which the clamp setters let through) is rejected too.
-  std::ostringstream msg;
-  if (!(this->EndTime > 0.0) || !std::isfinite(this->EndTime))
-  {
-    msg << "EndTime must be > 0 s (got " << this->EndTime << ").";
-  }
-  else if (!(this->FrameInterval > 0.0) || !std::isfinite(this->FrameInterval))
-  {
-    msg << "FrameInterval must be > 0 s (got " << this->FrameInterval << ").";
-  }
-  else if (this->EndTime / this->FrameInterval > kMaxFrames)
-  {
-    msg << "EndTime / FrameInterval gives more than " << kMaxFrames
-        << " frames; increase FrameInterval.";
-  }
-  else if (!(this->TimeStep >= 0.0) || !std::isfinite(this->TimeStep))
-  {
-    msg << "TimeStep must be >= 0 s (0 = automatic; got " << this->TimeStep << ").";
-  }
-  else if (!IsFinite(this->Gravity) || !IsFinite(this->FloorOrigin) || !IsFinite(this->FloorNormal))
-  {
-    msg << "Gravity, FloorOrigin and FloorNormal must be finite.";
-  }
-  else if (this->Floor && vtkMath::Norm(this->FloorNormal) == 0.0)
-  {
-    msg << "FloorNormal must not be the zero vector.";
-  }
-  else if (!(this->DampingTime >= 0.0) || !(this->MaxInverseMass >= 0.0))
-  {
-    msg << "DampingTime and MaxInverseMass must be >= 0.";
-  }
-  else if (this->Method != MASS_SPRING)
-  {
-    // PBD/XPBD settings are checked by core, which names the property.
-  }
-  else if (this->MaterialMode == PHYSICAL && !(this->YoungsModulus > 0.0))
-  {
-    msg << "YoungsModulus must be > 0 Pa (got " << this->YoungsModulus << ").";
-  }
-  else if (this->MaterialMode == PHYSICAL &&
-    !(this->PoissonRatio >= 0.0 && this->PoissonRatio < 0.5))
-  {
-    msg << "PoissonRatio must be in [0, 0.5) (got " << this->PoissonRatio << ").";
-  }
-  else if (this->MaterialMode == PHYSICAL && !(this->Density > 0.0))
-  {
-    msg << "Density must be > 0 kg/m^3 (got " << this->Density << ").";
-  }
-  else if (this->MaterialMode == RAW_CONSTANTS && !(this->TotalMass > 0.0))
-  {
-    msg << "TotalMass must be > 0 kg (got " << this->TotalMass << ").";
-  }
-  else if (this->StrainLimit != 0.0 && !(this->StrainLimit > 1.0))
-  {
-    msg << "StrainLimit must be 0 (off) or > 1 (got " << this->StrainLimit << ").";
-  }
-  return msg.str();
-}
-
-//------------------------------------------------------------------------------
 int vtkSoftBodyFilter::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
@@ -302,14 +176,17 @@ int vtkSoftBodyFilter::RequestInformation(
     outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
     outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
   }
-  if (!(this->EndTime > 0.0) || !(this->FrameInterval > 0.0) ||
-    this->EndTime / this->FrameInterval > kMaxFrames)
+  try
+  {
+    vtkSoftBodySettings::ValidateTimes(this->P);
+  }
+  catch (const softbody::InvalidInputError&)
   {
     // RequestData reports it; advertising no times keeps the pipeline sane meanwhile.
     return 1;
   }
-  const std::vector<double> times = vtkSoftBodyFrameGrid{ this->FrameInterval, this->EndTime }.Times();
-  const double range[2] = { 0.0, this->EndTime };
+  const std::vector<double> times = vtkSoftBodyFrameGrid{ this->P.FrameInterval, this->P.EndTime }.Times();
+  const double range[2] = { 0.0, this->P.EndTime };
   for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
   {
     vtkInformation* outInfo = outputVector->GetInformationObject(port);
@@ -368,15 +245,19 @@ int vtkSoftBodyFilter::RequestData(
     t = requestInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
   }
 
-  // Validate.
-  const std::string parameterError = this->ValidateParameters();
-  if (!parameterError.empty())
+  // Validate: the properties become core settings, refused with the user's value. The cache
+  // stays on a refusal: correcting the value back finds it still valid.
+  vtkSoftBodyCoreSettings settings;
+  try
   {
-    // The cache stays: correcting the value back finds it still valid.
-    vtkErrorMacro(<< parameterError);
+    settings = vtkSoftBodySettings::Convert(this->P);
+  }
+  catch (const softbody::InvalidInputError& e)
+  {
+    vtkErrorMacro(<< e.what());
     return 0;
   }
-  t = std::isnan(t) ? 0.0 : std::min(std::max(t, 0.0), this->EndTime);
+  t = std::isnan(t) ? 0.0 : std::min(std::max(t, 0.0), this->P.EndTime);
 
   auto stampTime = [&]() {
     for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
@@ -400,7 +281,7 @@ int vtkSoftBodyFilter::RequestData(
   // into the pipeline, and a simulation that threw is not trusted again.
   try
   {
-    if (!this->PrepareSimulation(input))
+    if (!this->PrepareSimulation(input, settings))
     {
       return 0;
     }
@@ -449,40 +330,25 @@ int vtkSoftBodyFilter::RequestData(
 }
 
 //------------------------------------------------------------------------------
-bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input)
+bool vtkSoftBodyFilter::PrepareSimulation(
+  vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings)
 {
   vtkInternals& internals = *this->Internals;
-  internals.Cache.SetMemoryLimit(static_cast<std::size_t>(this->CacheMemoryLimit) << 20);
+  internals.Cache.SetMemoryLimit(static_cast<std::size_t>(this->P.CacheMemoryLimit) << 20);
 
-  // Everything that changes the motion. EndTime and CacheMemoryLimit do not, so changing them
-  // keeps the cache.
-  const std::vector<double> parameters = { double(this->Method), double(this->Integrator),
-    this->TimeStep, this->FrameInterval, this->Gravity[0], this->Gravity[1], this->Gravity[2],
-    double(this->Floor), this->FloorOrigin[0], this->FloorOrigin[1], this->FloorOrigin[2],
-    this->FloorNormal[0], this->FloorNormal[1], this->FloorNormal[2], double(this->MaterialMode),
-    this->YoungsModulus, this->PoissonRatio, this->Density, this->DampingTime,
-    this->DistanceStiffness, this->DistanceDamping, this->VolumeStiffness, this->VolumeDamping,
-    this->TotalMass, double(this->MassDistribution), this->MaxInverseMass, this->StrainLimit,
-    double(this->StrainLimitIterations), double(this->InvertedTets), double(this->Solver),
-    double(this->Iterations), this->ResidualTolerance, this->Relaxation, double(this->Substeps),
-    this->PBDLinkStiffness, this->PBDVolumeStiffness, this->PBDPinStiffness,
-    this->XPBDLinkCompliance, this->XPBDVolumeCompliance, this->XPBDPinCompliance,
-    this->BreakingStrain, this->PlasticYield, this->PlasticCreep, this->Friction,
-    this->Restitution, this->VelocityDamping, double(this->Device), double(this->XPBDMaterial) };
-  const std::string pinned =
-    vtkSoftBodyInputConversion::IsNoArray(this->PinnedPointsArray) ? "" : this->PinnedPointsArray;
+  // The key is what the simulation is built from; EndTime and CacheMemoryLimit are not part
+  // of it, nor is any property the method ignores, so changing those keeps the cache.
   if (internals.Simulation && internals.Input == input &&
-    internals.InputMTime == input->GetMTime() && internals.Parameters == parameters &&
-    internals.PinnedPointsArray == pinned)
+    internals.InputMTime == input->GetMTime() && internals.Settings == settings)
   {
     return true;
   }
   internals.Discard();
 
-  if (this->Method == PBD || this->Method == XPBD)
+  if (settings.Method == PBD || settings.Method == XPBD)
   {
     std::string error;
-    std::unique_ptr<softbody::PbdSimulation> pbd = internals.PbdAdapter.Create(*this, input, pinned, error);
+    std::unique_ptr<softbody::PbdSimulation> pbd = internals.PbdAdapter.Create(settings, input, error);
     if (!pbd)
     {
       vtkErrorMacro(<< error);
@@ -490,13 +356,8 @@ bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input)
     }
     internals.Pbd = pbd.get();
     internals.Simulation = std::move(pbd);
-    if (this->Device == DEVICE_GPU_EGL)
-    {
-      internals.DeviceWarning = "Device GPU (EGL) runs Mass-Spring only; PBD and XPBD run on the CPU.";
-      vtkWarningMacro(<< internals.DeviceWarning);
-    }
   }
-  else if (!this->CreateMassSpring(input, pinned))
+  else if (!this->CreateMassSpring(input, settings))
   {
     return false;
   }
@@ -504,8 +365,7 @@ bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input)
   internals.SimulationFrame = 0;
   internals.Input = input;
   internals.InputMTime = input->GetMTime();
-  internals.Parameters = parameters;
-  internals.PinnedPointsArray = pinned;
+  internals.Settings = settings;
 
   // Said once per simulation, not on every frame; the Warnings field data repeats them.
   const std::vector<std::string>& warnings = internals.Simulation->warnings();
@@ -522,51 +382,25 @@ bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input)
 }
 
 //------------------------------------------------------------------------------
-bool vtkSoftBodyFilter::CreateMassSpring(vtkUnstructuredGrid* input, const std::string& pinned)
+bool vtkSoftBodyFilter::CreateMassSpring(
+  vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings)
 {
   vtkInternals& internals = *this->Internals;
   softbody::BodyDescription body;
-  const std::string inputError = vtkSoftBodyInputConversion::Convert(input, pinned, body);
+  const std::string inputError =
+    vtkSoftBodyInputConversion::Convert(input, settings.PinnedPointsArray, body);
   if (!inputError.empty())
   {
     vtkErrorMacro(<< inputError);
     return false;
   }
-
-  softbody::MaterialSettings& material = body.material;
-  material.mode = this->MaterialMode == RAW_CONSTANTS ? softbody::MaterialMode::Raw
-                                                      : softbody::MaterialMode::Physical;
-  material.physical.youngsModulus = this->YoungsModulus;
-  material.physical.poissonRatio = this->PoissonRatio;
-  material.physical.density = this->Density;
-  material.physical.dampingTime = this->DampingTime;
-  material.raw.distanceStiffness = this->DistanceStiffness;
-  material.raw.distanceDamping = this->DistanceDamping;
-  material.raw.volumeStiffness = this->VolumeStiffness;
-  material.raw.volumeDamping = this->VolumeDamping;
-  material.raw.totalMass = this->TotalMass;
-  material.massDistribution = this->MassDistribution == LUMPED_VOLUME
-    ? softbody::MassDistribution::LumpedVolume
-    : softbody::MassDistribution::AverageIncidentVolume;
-  material.maxInverseMass = this->MaxInverseMass;
-
-  softbody::SceneSettings scene;
-  scene.integrator = CoreIntegrator(this->Integrator);
-  scene.timeStep = this->TimeStep;
-  scene.gravity = ToVec3(this->Gravity);
-  scene.floorEnabled = this->Floor != 0;
-  scene.floor.origin = ToVec3(this->FloorOrigin);
-  scene.floor.normal = ToVec3(this->FloorNormal);
-  scene.strainLimit = this->StrainLimit;
-  scene.strainLimitIterations = this->StrainLimitIterations;
-  scene.invertedTets = this->InvertedTets == REFUSE ? softbody::InvertedTetPolicy::Refuse
-                                                    : softbody::InvertedTetPolicy::Reorient;
+  body.material = settings.Material;
 
   // Throws InvalidInputError for bad geometry or material; the caller reports it.
-  if (this->Device == DEVICE_GPU_EGL && this->Method == MASS_SPRING)
+  if (settings.Device == DEVICE_GPU_EGL)
   {
     std::string whyNot;
-    internals.Simulation = MakeGpuSimulation(body, scene, internals.GLRenderer, whyNot);
+    internals.Simulation = MakeGpuSimulation(body, settings.Scene, internals.GLRenderer, whyNot);
     if (internals.Simulation)
     {
       internals.DeviceUsed = DEVICE_GPU_EGL;
@@ -580,7 +414,7 @@ bool vtkSoftBodyFilter::CreateMassSpring(vtkUnstructuredGrid* input, const std::
   if (!internals.Simulation)
   {
     internals.Simulation =
-      std::make_unique<softbody::MassSpringSimulation>(std::move(body), scene);
+      std::make_unique<softbody::MassSpringSimulation>(std::move(body), settings.Scene);
   }
   return true;
 }
@@ -590,7 +424,7 @@ bool vtkSoftBodyFilter::AdvanceTo(double t)
 {
   vtkInternals& internals = *this->Internals;
   softbody::Simulation& simulation = *internals.Simulation;
-  const vtkSoftBodyFrameGrid grid{ this->FrameInterval, this->EndTime };
+  const vtkSoftBodyFrameGrid grid{ this->P.FrameInterval, this->P.EndTime };
   bool onGrid = true;
   const int target = grid.FrameOf(t, onGrid);
 
@@ -644,7 +478,7 @@ bool vtkSoftBodyFilter::AdvanceTo(double t)
 
   for (int k = first + 1; k <= target; ++k)
   {
-    if (this->CheckAbort() || !runTo(k * this->FrameInterval))
+    if (this->CheckAbort() || !runTo(k * this->P.FrameInterval))
     {
       internals.SimulationFrame = -1; // stopped somewhere inside frame k
       return false;
@@ -665,6 +499,19 @@ bool vtkSoftBodyFilter::AdvanceTo(double t)
   }
   this->UpdateProgress(1.0);
   return true;
+}
+
+//------------------------------------------------------------------------------
+double vtkSoftBodyFilter::StepUsed() const
+{
+  const softbody::Simulation& simulation = *this->Internals->Simulation;
+  const double previous = simulation.state().previousStep;
+  if (previous > 0.0)
+  {
+    return previous;
+  }
+  return this->P.FrameInterval /
+    static_cast<double>(softbody::equalStepCount(this->P.FrameInterval, simulation.stepSize()));
 }
 
 //------------------------------------------------------------------------------
@@ -707,12 +554,12 @@ void vtkSoftBodyFilter::FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid
   steps->SetName("StepCount");
   steps->InsertNextValue(static_cast<vtkIdType>(simulation.stepCount()));
   field->AddArray(steps);
-  field->AddArray(MakeScalarArray("TimeStep", { simulation.stepSize() }));
+  field->AddArray(MakeScalarArray("TimeStep", { this->StepUsed() }));
   field->AddArray(MakeScalarArray("StableTimeStep", { simulation.estimatedStableStep() }));
   field->AddArray(MakeScalarArray("TotalMass", { simulation.totalMass() }));
 
   field->AddArray(MakeStringArray(
-    "Integrator", { softbody::integratorName(CoreIntegrator(this->Integrator)) }));
+    "Integrator", { softbody::integratorName(vtkSoftBodySettings::Integrator(this->P.Integrator)) }));
   if (const softbody::PbdSimulation* pbd = this->Internals->Pbd)
   {
     this->Internals->PbdAdapter.AddBrokenCells(*pbd, output);
@@ -733,6 +580,10 @@ void vtkSoftBodyFilter::FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid
   if (!this->Internals->DeviceWarning.empty())
   {
     warnings.push_back(this->Internals->DeviceWarning);
+  }
+  for (const std::string& warning : vtkSoftBodySettings::Warnings(this->P))
+  {
+    warnings.push_back(warning);
   }
   field->AddArray(MakeStringArray("Warnings", warnings));
   field->AddArray(MakeStringArray("Device", { kDeviceNames[this->Internals->DeviceUsed] }));
@@ -775,55 +626,55 @@ void vtkSoftBodyFilter::FillConvergence(vtkTable* output)
 void vtkSoftBodyFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Method: " << this->Method << "\n";
-  os << indent << "Device: " << this->Device << "\n";
-  os << indent << "Integrator: " << this->Integrator << "\n";
-  os << indent << "TimeStep: " << this->TimeStep << "\n";
-  os << indent << "EndTime: " << this->EndTime << "\n";
-  os << indent << "FrameInterval: " << this->FrameInterval << "\n";
-  os << indent << "Gravity: " << this->Gravity[0] << " " << this->Gravity[1] << " "
-     << this->Gravity[2] << "\n";
-  os << indent << "Floor: " << this->Floor << "\n";
-  os << indent << "FloorOrigin: " << this->FloorOrigin[0] << " " << this->FloorOrigin[1] << " "
-     << this->FloorOrigin[2] << "\n";
-  os << indent << "FloorNormal: " << this->FloorNormal[0] << " " << this->FloorNormal[1] << " "
-     << this->FloorNormal[2] << "\n";
+  os << indent << "Method: " << this->P.Method << "\n";
+  os << indent << "Device: " << this->P.Device << "\n";
+  os << indent << "Integrator: " << this->P.Integrator << "\n";
+  os << indent << "TimeStep: " << this->P.TimeStep << "\n";
+  os << indent << "EndTime: " << this->P.EndTime << "\n";
+  os << indent << "FrameInterval: " << this->P.FrameInterval << "\n";
+  os << indent << "Gravity: " << this->P.Gravity[0] << " " << this->P.Gravity[1] << " "
+     << this->P.Gravity[2] << "\n";
+  os << indent << "Floor: " << this->P.Floor << "\n";
+  os << indent << "FloorOrigin: " << this->P.FloorOrigin[0] << " " << this->P.FloorOrigin[1] << " "
+     << this->P.FloorOrigin[2] << "\n";
+  os << indent << "FloorNormal: " << this->P.FloorNormal[0] << " " << this->P.FloorNormal[1] << " "
+     << this->P.FloorNormal[2] << "\n";
   os << indent << "PinnedPointsArray: "
-     << (this->PinnedPointsArray.empty() ? "(none)" : this->PinnedPointsArray) << "\n";
-  os << indent << "MaterialMode: " << this->MaterialMode << "\n";
-  os << indent << "YoungsModulus: " << this->YoungsModulus << "\n";
-  os << indent << "PoissonRatio: " << this->PoissonRatio << "\n";
-  os << indent << "Density: " << this->Density << "\n";
-  os << indent << "DampingTime: " << this->DampingTime << "\n";
-  os << indent << "DistanceStiffness: " << this->DistanceStiffness << "\n";
-  os << indent << "DistanceDamping: " << this->DistanceDamping << "\n";
-  os << indent << "VolumeStiffness: " << this->VolumeStiffness << "\n";
-  os << indent << "VolumeDamping: " << this->VolumeDamping << "\n";
-  os << indent << "TotalMass: " << this->TotalMass << "\n";
-  os << indent << "MassDistribution: " << this->MassDistribution << "\n";
-  os << indent << "MaxInverseMass: " << this->MaxInverseMass << "\n";
-  os << indent << "StrainLimit: " << this->StrainLimit << "\n";
-  os << indent << "StrainLimitIterations: " << this->StrainLimitIterations << "\n";
-  os << indent << "InvertedTets: " << this->InvertedTets << "\n";
-  os << indent << "Solver: " << this->Solver << "\n";
-  os << indent << "Iterations: " << this->Iterations << "\n";
-  os << indent << "ResidualTolerance: " << this->ResidualTolerance << "\n";
-  os << indent << "Relaxation: " << this->Relaxation << "\n";
-  os << indent << "Substeps: " << this->Substeps << "\n";
-  os << indent << "PBDLinkStiffness: " << this->PBDLinkStiffness << "\n";
-  os << indent << "PBDVolumeStiffness: " << this->PBDVolumeStiffness << "\n";
-  os << indent << "PBDPinStiffness: " << this->PBDPinStiffness << "\n";
-  os << indent << "XPBDLinkCompliance: " << this->XPBDLinkCompliance << "\n";
-  os << indent << "XPBDVolumeCompliance: " << this->XPBDVolumeCompliance << "\n";
-  os << indent << "XPBDPinCompliance: " << this->XPBDPinCompliance << "\n";
-  os << indent << "XPBDMaterial: " << this->XPBDMaterial << "\n";
-  os << indent << "BreakingStrain: " << this->BreakingStrain << "\n";
-  os << indent << "PlasticYield: " << this->PlasticYield << "\n";
-  os << indent << "PlasticCreep: " << this->PlasticCreep << "\n";
-  os << indent << "Friction: " << this->Friction << "\n";
-  os << indent << "Restitution: " << this->Restitution << "\n";
-  os << indent << "VelocityDamping: " << this->VelocityDamping << "\n";
-  os << indent << "CacheMemoryLimit: " << this->CacheMemoryLimit << " MiB\n";
+     << (this->P.PinnedPointsArray.empty() ? "(none)" : this->P.PinnedPointsArray) << "\n";
+  os << indent << "MaterialMode: " << this->P.MaterialMode << "\n";
+  os << indent << "YoungsModulus: " << this->P.YoungsModulus << "\n";
+  os << indent << "PoissonRatio: " << this->P.PoissonRatio << "\n";
+  os << indent << "Density: " << this->P.Density << "\n";
+  os << indent << "DampingTime: " << this->P.DampingTime << "\n";
+  os << indent << "DistanceStiffness: " << this->P.DistanceStiffness << "\n";
+  os << indent << "DistanceDamping: " << this->P.DistanceDamping << "\n";
+  os << indent << "VolumeStiffness: " << this->P.VolumeStiffness << "\n";
+  os << indent << "VolumeDamping: " << this->P.VolumeDamping << "\n";
+  os << indent << "TotalMass: " << this->P.TotalMass << "\n";
+  os << indent << "MassDistribution: " << this->P.MassDistribution << "\n";
+  os << indent << "MaxInverseMass: " << this->P.MaxInverseMass << "\n";
+  os << indent << "StrainLimit: " << this->P.StrainLimit << "\n";
+  os << indent << "StrainLimitIterations: " << this->P.StrainLimitIterations << "\n";
+  os << indent << "InvertedTets: " << this->P.InvertedTets << "\n";
+  os << indent << "Solver: " << this->P.Solver << "\n";
+  os << indent << "Iterations: " << this->P.Iterations << "\n";
+  os << indent << "ResidualTolerance: " << this->P.ResidualTolerance << "\n";
+  os << indent << "Relaxation: " << this->P.Relaxation << "\n";
+  os << indent << "Substeps: " << this->P.Substeps << "\n";
+  os << indent << "PBDLinkStiffness: " << this->P.PBDLinkStiffness << "\n";
+  os << indent << "PBDVolumeStiffness: " << this->P.PBDVolumeStiffness << "\n";
+  os << indent << "PBDPinStiffness: " << this->P.PBDPinStiffness << "\n";
+  os << indent << "XPBDLinkCompliance: " << this->P.XPBDLinkCompliance << "\n";
+  os << indent << "XPBDVolumeCompliance: " << this->P.XPBDVolumeCompliance << "\n";
+  os << indent << "XPBDPinCompliance: " << this->P.XPBDPinCompliance << "\n";
+  os << indent << "XPBDMaterial: " << this->P.XPBDMaterial << "\n";
+  os << indent << "BreakingStrain: " << this->P.BreakingStrain << "\n";
+  os << indent << "PlasticYield: " << this->P.PlasticYield << "\n";
+  os << indent << "PlasticCreep: " << this->P.PlasticCreep << "\n";
+  os << indent << "Friction: " << this->P.Friction << "\n";
+  os << indent << "Restitution: " << this->P.Restitution << "\n";
+  os << indent << "VelocityDamping: " << this->P.VelocityDamping << "\n";
+  os << indent << "CacheMemoryLimit: " << this->P.CacheMemoryLimit << " MiB\n";
   os << indent << "SimulatedStepsTotal: " << this->SimulatedStepsTotal << "\n";
   os << indent << "CachedFrames: " << this->Internals->Cache.GetNumberOfFrames() << " ("
      << this->Internals->Cache.GetMemoryUsed() << " bytes)\n";

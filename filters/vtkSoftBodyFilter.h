@@ -37,6 +37,7 @@
 #define vtkSoftBodyFilter_h
 
 #include "SoftBodyFiltersModule.h" // for export macro
+#include "vtkSoftBodyParameterMacros.h" // for vtkSoftBodyParameterMacro
 #include "vtkUnstructuredGridAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
@@ -44,6 +45,7 @@
 
 class vtkPolyData;
 class vtkTable;
+struct vtkSoftBodyCoreSettings;
 class vtkUnstructuredGrid;
 
 class SOFTBODYFILTERS_EXPORT vtkSoftBodyFilter : public vtkUnstructuredGridAlgorithm
@@ -99,6 +101,64 @@ public:
   };
 
   /**
+   * Every property of the filter as the user set it (setters never clamp), with its default.
+   * One translation unit (vtkSoftBodySettings) turns it into core settings; Mesh Quality keeps
+   * the same struct for the properties it shares.
+   */
+  struct Parameters
+  {
+    int Method = MASS_SPRING;
+    int Device = DEVICE_CPU;
+    int Integrator = EULER_CROMER;
+    double TimeStep = 0.0;
+    double EndTime = 3.0;
+    double FrameInterval = 0.04;
+    double Gravity[3] = { 0.0, 0.0, -9.81 };
+    vtkTypeBool Floor = 1;
+    double FloorOrigin[3] = { 0.0, 0.0, 0.0 };
+    double FloorNormal[3] = { 0.0, 0.0, 1.0 };
+    std::string PinnedPointsArray;
+    int MaterialMode = PHYSICAL;
+    double YoungsModulus = 1.0e5;
+    double PoissonRatio = 0.3;
+    double Density = 1100.0;
+    double DampingTime = 2.0e-3;
+    // Raw-mode defaults: the constructor copies them from softbody::RawConstants.
+    double DistanceStiffness = 0.0;
+    double DistanceDamping = 0.0;
+    double VolumeStiffness = 0.0;
+    double VolumeDamping = 0.0;
+    double TotalMass = 0.0;
+    int MassDistribution = AVERAGE_INCIDENT_VOLUME;
+    double MaxInverseMass = 0.0;
+    double StrainLimit = 0.0;
+    int StrainLimitIterations = 4;
+    int InvertedTets = REORIENT;
+    int CacheMemoryLimit = 512;
+    int Solver = GAUSS_SEIDEL;
+    int Iterations = 10;
+    double ResidualTolerance = 0.0;
+    double Relaxation = 1.0;
+    int Substeps = 1;
+    double PBDLinkStiffness = 1.0;
+    double PBDVolumeStiffness = 1.0;
+    double PBDPinStiffness = 1.0;
+    double XPBDLinkCompliance = 1.0e-4;
+    double XPBDVolumeCompliance = 1.0e-10;
+    double XPBDPinCompliance = 0.0;
+    int XPBDMaterial = XPBD_COMPLIANCES;
+    double BreakingStrain = 0.0;
+    double PlasticYield = 0.0;
+    double PlasticCreep = 0.0;
+    double Friction = 0.3;
+    double Restitution = 0.0;
+    double VelocityDamping = 0.0;
+  };
+#ifndef __VTK_WRAP__
+  const Parameters& GetParameters() const { return this->P; }
+#endif
+
+  /**
    * The optional render surface (input port 1) skinned onto the body (output port 3).
    */
   void SetSurfaceConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
@@ -108,8 +168,7 @@ public:
    * Method: MASS_SPRING (0, tetrahedra only), PBD (1) or XPBD (2) (tetrahedra, and line cells
    * as distance links; other cells move with their points).
    */
-  vtkSetClampMacro(Method, int, MASS_SPRING, XPBD);
-  vtkGetMacro(Method, int);
+  vtkSoftBodyParameterMacro(Method, int);
   ///@}
 
   ///@{
@@ -117,20 +176,15 @@ public:
    * PBD/XPBD solver: GAUSS_SEIDEL (SOR when Relaxation != 1), JACOBI (averaged, relaxed) or
    * PARALLEL_GAUSS_SEIDEL (graph-colored; same result at any thread count).
    */
-  vtkSetClampMacro(Solver, int, GAUSS_SEIDEL, PARALLEL_GAUSS_SEIDEL);
-  vtkGetMacro(Solver, int);
+  vtkSoftBodyParameterMacro(Solver, int);
   /// Iterations per (sub)step; the cap when ResidualTolerance > 0.
-  vtkSetClampMacro(Iterations, int, 1, VTK_INT_MAX);
-  vtkGetMacro(Iterations, int);
+  vtkSoftBodyParameterMacro(Iterations, int);
   /// Stop iterating below this residual (constraint units); 0 = always run Iterations.
-  vtkSetClampMacro(ResidualTolerance, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(ResidualTolerance, double);
+  vtkSoftBodyParameterMacro(ResidualTolerance, double);
   /// SOR factor (Gauss-Seidel) or Jacobi's relaxation, in (0, 2).
-  vtkSetClampMacro(Relaxation, double, 0.0, 2.0);
-  vtkGetMacro(Relaxation, double);
+  vtkSoftBodyParameterMacro(Relaxation, double);
   /// Substeps per time step (each runs Iterations iterations).
-  vtkSetClampMacro(Substeps, int, 1, VTK_INT_MAX);
-  vtkGetMacro(Substeps, int);
+  vtkSoftBodyParameterMacro(Substeps, int);
   ///@}
 
   ///@{
@@ -138,12 +192,9 @@ public:
    * PBD stiffnesses in [0, 1] of links (distance), tet volumes and soft pins; applied per
    * iteration as 1 - (1 - k)^(1/Iterations). A pin stiffness of 1 fixes pinned points.
    */
-  vtkSetClampMacro(PBDLinkStiffness, double, 0.0, 1.0);
-  vtkGetMacro(PBDLinkStiffness, double);
-  vtkSetClampMacro(PBDVolumeStiffness, double, 0.0, 1.0);
-  vtkGetMacro(PBDVolumeStiffness, double);
-  vtkSetClampMacro(PBDPinStiffness, double, 0.0, 1.0);
-  vtkGetMacro(PBDPinStiffness, double);
+  vtkSoftBodyParameterMacro(PBDLinkStiffness, double);
+  vtkSoftBodyParameterMacro(PBDVolumeStiffness, double);
+  vtkSoftBodyParameterMacro(PBDPinStiffness, double);
   ///@}
 
   ///@{
@@ -151,19 +202,15 @@ public:
    * XPBD compliances (inverse stiffness): links [m/N], tet volumes [m^3/Pa] (the constraint is
    * V - V0), pins [m/N]; 0 is rigid (a pin compliance of 0 fixes pinned points).
    */
-  vtkSetClampMacro(XPBDLinkCompliance, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(XPBDLinkCompliance, double);
-  vtkSetClampMacro(XPBDVolumeCompliance, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(XPBDVolumeCompliance, double);
-  vtkSetClampMacro(XPBDPinCompliance, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(XPBDPinCompliance, double);
+  vtkSoftBodyParameterMacro(XPBDLinkCompliance, double);
+  vtkSoftBodyParameterMacro(XPBDVolumeCompliance, double);
+  vtkSoftBodyParameterMacro(XPBDPinCompliance, double);
   /**
    * XPBD_COMPLIANCES (default) uses the compliances above; XPBD_YOUNGS_MODULUS derives each tet
    * edge's and tet's compliance from YoungsModulus and PoissonRatio exactly as Mass-Spring
    * derives its stiffnesses, so both methods rest where the same elastic energy is minimal.
    */
-  vtkSetClampMacro(XPBDMaterial, int, XPBD_COMPLIANCES, XPBD_YOUNGS_MODULUS);
-  vtkGetMacro(XPBDMaterial, int);
+  vtkSoftBodyParameterMacro(XPBDMaterial, int);
   ///@}
 
   ///@{
@@ -173,18 +220,12 @@ public:
    * length at PlasticCreep [1/s] (0 = elastic). Friction (Coulomb) and Restitution act at the
    * floor; VelocityDamping [1/s] damps all motion.
    */
-  vtkSetClampMacro(BreakingStrain, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(BreakingStrain, double);
-  vtkSetClampMacro(PlasticYield, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(PlasticYield, double);
-  vtkSetClampMacro(PlasticCreep, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(PlasticCreep, double);
-  vtkSetClampMacro(Friction, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(Friction, double);
-  vtkSetClampMacro(Restitution, double, 0.0, 1.0);
-  vtkGetMacro(Restitution, double);
-  vtkSetClampMacro(VelocityDamping, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(VelocityDamping, double);
+  vtkSoftBodyParameterMacro(BreakingStrain, double);
+  vtkSoftBodyParameterMacro(PlasticYield, double);
+  vtkSoftBodyParameterMacro(PlasticCreep, double);
+  vtkSoftBodyParameterMacro(Friction, double);
+  vtkSoftBodyParameterMacro(Restitution, double);
+  vtkSoftBodyParameterMacro(VelocityDamping, double);
   ///@}
 
   ///@{
@@ -193,48 +234,42 @@ public:
    * EGL context; Mass-Spring only). When the GPU cannot start, the filter warns why and
    * simulates on the CPU; field data "Device" says which one ran.
    */
-  vtkSetClampMacro(Device, int, DEVICE_CPU, DEVICE_GPU_EGL);
-  vtkGetMacro(Device, int);
+  vtkSoftBodyParameterMacro(Device, int);
   ///@}
 
   ///@{
   /**
    * Integrator: EULER, MIDPOINT, VERLET or EULER_CROMER (default, symplectic and cheap).
    */
-  vtkSetClampMacro(Integrator, int, EULER, EULER_CROMER);
-  vtkGetMacro(Integrator, int);
+  vtkSoftBodyParameterMacro(Integrator, int);
   ///@}
 
   ///@{
   /**
    * Time step [s]; 0 (default) picks 0.9 times the estimated stable step.
    */
-  vtkSetClampMacro(TimeStep, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(TimeStep, double);
+  vtkSoftBodyParameterMacro(TimeStep, double);
   ///@}
 
   ///@{
   /**
    * End of the simulated interval [s] (default 3). Must be > 0.
    */
-  vtkSetClampMacro(EndTime, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(EndTime, double);
+  vtkSoftBodyParameterMacro(EndTime, double);
   ///@}
 
   ///@{
   /**
    * Interval between output frames [s] (default 0.04, i.e. 25 frames per second). Must be > 0.
    */
-  vtkSetClampMacro(FrameInterval, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(FrameInterval, double);
+  vtkSoftBodyParameterMacro(FrameInterval, double);
   ///@}
 
   ///@{
   /**
    * Gravitational acceleration [m/s^2] (default 0 0 -9.81).
    */
-  vtkSetVector3Macro(Gravity, double);
-  vtkGetVector3Macro(Gravity, double);
+  vtkSoftBodyVector3ParameterMacro(Gravity);
   ///@}
 
   ///@{
@@ -242,13 +277,9 @@ public:
    * Floor: a plane through FloorOrigin [m] with normal FloorNormal (pointing into free space)
    * that points cannot cross. On by default. A zero FloorNormal is an error.
    */
-  vtkSetMacro(Floor, vtkTypeBool);
-  vtkGetMacro(Floor, vtkTypeBool);
-  vtkBooleanMacro(Floor, vtkTypeBool);
-  vtkSetVector3Macro(FloorOrigin, double);
-  vtkGetVector3Macro(FloorOrigin, double);
-  vtkSetVector3Macro(FloorNormal, double);
-  vtkGetVector3Macro(FloorNormal, double);
+  vtkSoftBodyBooleanParameterMacro(Floor);
+  vtkSoftBodyVector3ParameterMacro(FloorOrigin);
+  vtkSoftBodyVector3ParameterMacro(FloorNormal);
   ///@}
 
   ///@{
@@ -256,8 +287,7 @@ public:
    * Name of a point-data array marking pinned points (nonzero in any component = pinned; pinned
    * points never move). Empty or "None" (default) pins nothing.
    */
-  vtkSetStdStringFromCharMacro(PinnedPointsArray);
-  vtkGetCharFromStdStringMacro(PinnedPointsArray);
+  vtkSoftBodyStringParameterMacro(PinnedPointsArray);
   ///@}
 
   ///@{
@@ -267,26 +297,16 @@ public:
    * DistanceStiffness [J], DistanceDamping [J s], VolumeStiffness [J], VolumeDamping [J s] and
    * TotalMass [kg] as they are.
    */
-  vtkSetClampMacro(MaterialMode, int, PHYSICAL, RAW_CONSTANTS);
-  vtkGetMacro(MaterialMode, int);
-  vtkSetClampMacro(YoungsModulus, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(YoungsModulus, double);
-  vtkSetClampMacro(PoissonRatio, double, 0.0, 0.5);
-  vtkGetMacro(PoissonRatio, double);
-  vtkSetClampMacro(Density, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(Density, double);
-  vtkSetClampMacro(DampingTime, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(DampingTime, double);
-  vtkSetClampMacro(DistanceStiffness, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(DistanceStiffness, double);
-  vtkSetClampMacro(DistanceDamping, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(DistanceDamping, double);
-  vtkSetClampMacro(VolumeStiffness, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(VolumeStiffness, double);
-  vtkSetClampMacro(VolumeDamping, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(VolumeDamping, double);
-  vtkSetClampMacro(TotalMass, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(TotalMass, double);
+  vtkSoftBodyParameterMacro(MaterialMode, int);
+  vtkSoftBodyParameterMacro(YoungsModulus, double);
+  vtkSoftBodyParameterMacro(PoissonRatio, double);
+  vtkSoftBodyParameterMacro(Density, double);
+  vtkSoftBodyParameterMacro(DampingTime, double);
+  vtkSoftBodyParameterMacro(DistanceStiffness, double);
+  vtkSoftBodyParameterMacro(DistanceDamping, double);
+  vtkSoftBodyParameterMacro(VolumeStiffness, double);
+  vtkSoftBodyParameterMacro(VolumeDamping, double);
+  vtkSoftBodyParameterMacro(TotalMass, double);
   ///@}
 
   ///@{
@@ -294,10 +314,8 @@ public:
    * MassDistribution: AVERAGE_INCIDENT_VOLUME (default) or LUMPED_VOLUME.
    * MaxInverseMass [1/kg]: lighter points are made heavier up to this bound; 0 (default) = off.
    */
-  vtkSetClampMacro(MassDistribution, int, AVERAGE_INCIDENT_VOLUME, LUMPED_VOLUME);
-  vtkGetMacro(MassDistribution, int);
-  vtkSetClampMacro(MaxInverseMass, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(MaxInverseMass, double);
+  vtkSoftBodyParameterMacro(MassDistribution, int);
+  vtkSoftBodyParameterMacro(MaxInverseMass, double);
   ///@}
 
   ///@{
@@ -305,10 +323,8 @@ public:
    * StrainLimit [-]: largest allowed length / rest length of a spring, > 1; 0 (default) = off.
    * StrainLimitIterations: projection passes per step (default 4, >= 1).
    */
-  vtkSetClampMacro(StrainLimit, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(StrainLimit, double);
-  vtkSetClampMacro(StrainLimitIterations, int, 1, VTK_INT_MAX);
-  vtkGetMacro(StrainLimitIterations, int);
+  vtkSoftBodyParameterMacro(StrainLimit, double);
+  vtkSoftBodyParameterMacro(StrainLimitIterations, int);
   ///@}
 
   ///@{
@@ -316,16 +332,14 @@ public:
    * InvertedTets: REORIENT (default; the simulation's copy is fixed and a warning is reported)
    * or REFUSE (an error).
    */
-  vtkSetClampMacro(InvertedTets, int, REORIENT, REFUSE);
-  vtkGetMacro(InvertedTets, int);
+  vtkSoftBodyParameterMacro(InvertedTets, int);
   ///@}
 
   ///@{
   /**
    * Memory budget of the frame cache [MiB] (default 512). Frame 0 is kept even over budget.
    */
-  vtkSetClampMacro(CacheMemoryLimit, int, 0, VTK_INT_MAX);
-  vtkGetMacro(CacheMemoryLimit, int);
+  vtkSoftBodyParameterMacro(CacheMemoryLimit, int);
   ///@}
 
   /**
@@ -352,62 +366,19 @@ protected:
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 
-  int Method = MASS_SPRING;
-  int Device = DEVICE_CPU;
-  int Integrator = EULER_CROMER;
-  double TimeStep = 0.0;
-  double EndTime = 3.0;
-  double FrameInterval = 0.04;
-  double Gravity[3] = { 0.0, 0.0, -9.81 };
-  vtkTypeBool Floor = 1;
-  double FloorOrigin[3] = { 0.0, 0.0, 0.0 };
-  double FloorNormal[3] = { 0.0, 0.0, 1.0 };
-  std::string PinnedPointsArray;
-  int MaterialMode = PHYSICAL;
-  double YoungsModulus = 1.0e5;
-  double PoissonRatio = 0.3;
-  double Density = 1100.0;
-  double DampingTime = 2.0e-3;
-  // Raw-mode defaults; the constructor copies them from softbody::RawConstants.
-  double DistanceStiffness = 0.0;
-  double DistanceDamping = 0.0;
-  double VolumeStiffness = 0.0;
-  double VolumeDamping = 0.0;
-  double TotalMass = 0.0;
-  int MassDistribution = AVERAGE_INCIDENT_VOLUME;
-  double MaxInverseMass = 0.0;
-  double StrainLimit = 0.0;
-  int StrainLimitIterations = 4;
-  int InvertedTets = REORIENT;
-  int CacheMemoryLimit = 512;
-  int Solver = GAUSS_SEIDEL;
-  int Iterations = 10;
-  double ResidualTolerance = 0.0;
-  double Relaxation = 1.0;
-  int Substeps = 1;
-  double PBDLinkStiffness = 1.0;
-  double PBDVolumeStiffness = 1.0;
-  double PBDPinStiffness = 1.0;
-  double XPBDLinkCompliance = 1.0e-4;
-  double XPBDVolumeCompliance = 1.0e-10;
-  double XPBDPinCompliance = 0.0;
-  int XPBDMaterial = XPBD_COMPLIANCES;
-  double BreakingStrain = 0.0;
-  double PlasticYield = 0.0;
-  double PlasticCreep = 0.0;
-  double Friction = 0.3;
-  double Restitution = 0.0;
-  double VelocityDamping = 0.0;
+  Parameters P;
 
 private:
   vtkSoftBodyFilter(const vtkSoftBodyFilter&) = delete;
   void operator=(const vtkSoftBodyFilter&) = delete;
 
-  /// Why the properties cannot be simulated, or an empty string.
-  std::string ValidateParameters() const;
-  /// Builds the simulation (and empties the cache) unless input and parameters are unchanged.
-  bool PrepareSimulation(vtkUnstructuredGrid* input);
-  bool CreateMassSpring(vtkUnstructuredGrid* input, const std::string& pinnedArrayName);
+  /// Builds the simulation (and empties the cache) unless the input and the core settings it
+  /// was built from are unchanged.
+  bool PrepareSimulation(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings);
+  bool CreateMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings);
+  /// The step the simulation takes: the frame interval split into equal steps no larger than
+  /// its step size (what the last advance used; before any, what the frames will use).
+  double StepUsed() const;
   /// Brings the simulation to time `t` through the cache; false when aborted.
   bool AdvanceTo(double t);
   void FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output);

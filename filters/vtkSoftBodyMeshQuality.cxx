@@ -1,6 +1,10 @@
 #include "vtkSoftBodyMeshQuality.h"
 
+#include "vtkSoftBodyArrays.h"
 #include "vtkSoftBodyFilter.h"
+#include "vtkSoftBodySettings.h"
+
+#include "softbody/common/validation.h"
 #include "vtkSoftBodyInputConversion.h"
 
 #include "vtkCellData.h"
@@ -29,30 +33,6 @@ vtkStandardNewMacro(vtkSoftBodyMeshQuality);
 
 namespace
 {
-softbody::Integrator CoreIntegrator(int integrator)
-{
-  switch (integrator)
-  {
-    case vtkSoftBodyFilter::EULER:
-      return softbody::Integrator::Euler;
-    case vtkSoftBodyFilter::MIDPOINT:
-      return softbody::Integrator::Midpoint;
-    case vtkSoftBodyFilter::VERLET:
-      return softbody::Integrator::Verlet;
-    default:
-      return softbody::Integrator::EulerCromer;
-  }
-}
-
-vtkSmartPointer<vtkDoubleArray> MakeDoubleArray(const char* name, const std::vector<double>& values)
-{
-  auto array = vtkSmartPointer<vtkDoubleArray>::New();
-  array->SetName(name);
-  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
-  std::copy(values.begin(), values.end(), array->GetPointer(0));
-  return array;
-}
-
 vtkSmartPointer<vtkUnsignedCharArray> MakeFlagArray(const char* name, const std::vector<char>& flags)
 {
   auto array = vtkSmartPointer<vtkUnsignedCharArray>::New();
@@ -77,21 +57,10 @@ vtkSmartPointer<vtkIdTypeArray> MakeCountArray(const char* name, const std::vect
   return array;
 }
 
-vtkSmartPointer<vtkStringArray> MakeStringArray(const char* name, const std::vector<std::string>& values)
-{
-  auto array = vtkSmartPointer<vtkStringArray>::New();
-  array->SetName(name);
-  for (const std::string& value : values)
-  {
-    array->InsertNextValue(value);
-  }
-  return array;
-}
-
 /// The summary, one named value per array, added to `field`.
 void AddSummary(vtkFieldData* field, const softbody::MassSpringQualityReport& r, int integrator)
 {
-  auto add = [field](const char* name, double value) { field->AddArray(MakeDoubleArray(name, { value })); };
+  auto add = [field](const char* name, double value) { field->AddArray(vtkSoftBodyArrays::MakeScalarArray(name, { value })); };
   add("InvertedTets", double(r.invertedTets));
   add("DegenerateTets", double(r.degenerateTets));
   add("SliverTets", double(r.sliverTets));
@@ -105,8 +74,8 @@ void AddSummary(vtkFieldData* field, const softbody::MassSpringQualityReport& r,
   add("TruncatedTotalMass", r.truncatedTotalMass);
   add("TruncatedStableTimeStep", r.truncatedStableTimeStep);
   add("StableStepGain", r.stableStepGain);
-  field->AddArray(MakeStringArray("Integrator", { softbody::integratorName(CoreIntegrator(integrator)) }));
-  field->AddArray(MakeStringArray("Warnings", r.warnings));
+  field->AddArray(vtkSoftBodyArrays::MakeStringArray("Integrator", { softbody::integratorName(vtkSoftBodySettings::Integrator(integrator)) }));
+  field->AddArray(vtkSoftBodyArrays::MakeStringArray("Warnings", r.warnings));
 }
 
 /// Volume and aspect ratio from vtkMeshQuality, for the tets core could measure; NaN for the
@@ -117,8 +86,8 @@ void AddSummary(vtkFieldData* field, const softbody::MassSpringQualityReport& r,
 void AddVtkMetrics(vtkUnstructuredGrid* grid, const softbody::MassSpringQualityReport& r)
 {
   const vtkIdType numCells = grid->GetNumberOfCells();
-  auto volume = MakeDoubleArray("Volume", std::vector<double>(static_cast<std::size_t>(numCells)));
-  auto aspect = MakeDoubleArray("AspectRatio", std::vector<double>(static_cast<std::size_t>(numCells)));
+  auto volume = vtkSoftBodyArrays::MakeScalarArray("Volume", std::vector<double>(static_cast<std::size_t>(numCells)));
+  auto aspect = vtkSoftBodyArrays::MakeScalarArray("AspectRatio", std::vector<double>(static_cast<std::size_t>(numCells)));
   vtkNew<vtkGenericCell> cell;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (vtkIdType c = 0; c < numCells; ++c)
@@ -139,11 +108,11 @@ void AddVtkMetrics(vtkUnstructuredGrid* grid, const softbody::MassSpringQualityR
 
 void FillHistograms(vtkTable* table, const softbody::MassSpringQualityReport& r)
 {
-  table->AddColumn(MakeDoubleArray("InverseMass", r.inverseMassHistogram.binCenters));
+  table->AddColumn(vtkSoftBodyArrays::MakeScalarArray("InverseMass", r.inverseMassHistogram.binCenters));
   table->AddColumn(MakeCountArray("InverseMassCount", r.inverseMassHistogram.counts));
-  table->AddColumn(MakeDoubleArray("Volume", r.volumeHistogram.binCenters));
+  table->AddColumn(vtkSoftBodyArrays::MakeScalarArray("Volume", r.volumeHistogram.binCenters));
   table->AddColumn(MakeCountArray("VolumeCount", r.volumeHistogram.counts));
-  table->AddColumn(MakeDoubleArray("EdgeLength", r.edgeLengthHistogram.binCenters));
+  table->AddColumn(vtkSoftBodyArrays::MakeScalarArray("EdgeLength", r.edgeLengthHistogram.binCenters));
   table->AddColumn(MakeCountArray("EdgeLengthCount", r.edgeLengthHistogram.counts));
 }
 } // namespace
@@ -155,11 +124,11 @@ vtkSoftBodyMeshQuality::vtkSoftBodyMeshQuality()
   this->SetNumberOfOutputPorts(2);
   // One source of truth for the defaults: core's.
   const softbody::RawConstants raw;
-  this->DistanceStiffness = raw.distanceStiffness;
-  this->DistanceDamping = raw.distanceDamping;
-  this->VolumeStiffness = raw.volumeStiffness;
-  this->VolumeDamping = raw.volumeDamping;
-  this->TotalMass = raw.totalMass;
+  this->P.DistanceStiffness = raw.distanceStiffness;
+  this->P.DistanceDamping = raw.distanceDamping;
+  this->P.VolumeStiffness = raw.volumeStiffness;
+  this->P.VolumeDamping = raw.volumeDamping;
+  this->P.TotalMass = raw.totalMass;
   const softbody::MeshQualitySettings settings;
   this->SliverAngle = settings.sliverDihedralDegrees;
   this->NumberOfBins = static_cast<int>(settings.binCount);
@@ -215,34 +184,20 @@ int vtkSoftBodyMeshQuality::RequestData(
     return 0;
   }
 
-  softbody::MaterialSettings material;
-  material.mode = this->MaterialMode == vtkSoftBodyFilter::RAW_CONSTANTS
-    ? softbody::MaterialMode::Raw
-    : softbody::MaterialMode::Physical;
-  material.physical.youngsModulus = this->YoungsModulus;
-  material.physical.poissonRatio = this->PoissonRatio;
-  material.physical.density = this->Density;
-  material.physical.dampingTime = this->DampingTime;
-  material.raw.distanceStiffness = this->DistanceStiffness;
-  material.raw.distanceDamping = this->DistanceDamping;
-  material.raw.volumeStiffness = this->VolumeStiffness;
-  material.raw.volumeDamping = this->VolumeDamping;
-  material.raw.totalMass = this->TotalMass;
-  material.massDistribution = this->MassDistribution == vtkSoftBodyFilter::LUMPED_VOLUME
-    ? softbody::MassDistribution::LumpedVolume
-    : softbody::MassDistribution::AverageIncidentVolume;
-
-  softbody::MeshQualitySettings settings;
-  settings.sliverDihedralDegrees = this->SliverAngle;
-  settings.binCount = static_cast<std::size_t>(std::max(1, this->NumberOfBins));
-  settings.truncationMassBudget = this->TruncationMassBudget / 100.0;
-
-  // Compute. Core reports bad parameters by exceptions; they must not cross into the pipeline.
+  // Compute. Core reports bad parameters (quoting them) by exceptions; they must not cross
+  // into the pipeline.
   softbody::MassSpringQualityReport report;
   try
   {
-    report = softbody::computeMassSpringQuality(
-      body.mesh, material, CoreIntegrator(this->Integrator), settings);
+    softbody::check::inRange("SliverAngle", this->SliverAngle, 0.0, 180.0);
+    softbody::check::atLeast("NumberOfBins", this->NumberOfBins, 1);
+    softbody::check::nonNegative("TruncationMassBudget", this->TruncationMassBudget, "%");
+    softbody::MeshQualitySettings settings;
+    settings.sliverDihedralDegrees = this->SliverAngle;
+    settings.binCount = static_cast<std::size_t>(this->NumberOfBins);
+    settings.truncationMassBudget = this->TruncationMassBudget / 100.0;
+    report = softbody::computeMassSpringQuality(body.mesh, vtkSoftBodySettings::Material(this->P),
+      vtkSoftBodySettings::Integrator(this->P.Integrator), settings);
   }
   catch (const std::exception& e)
   {
@@ -254,14 +209,14 @@ int vtkSoftBodyMeshQuality::RequestData(
   // Assemble the outputs: the input passes through with the quality arrays added.
   output->ShallowCopy(input);
   AddVtkMetrics(output, report);
-  output->GetCellData()->AddArray(MakeDoubleArray("MinDihedralAngle", report.minDihedralDegrees));
+  output->GetCellData()->AddArray(vtkSoftBodyArrays::MakeScalarArray("MinDihedralAngle", report.minDihedralDegrees));
   output->GetCellData()->AddArray(MakeFlagArray("Inverted", report.inverted));
   output->GetCellData()->AddArray(MakeFlagArray("Degenerate", report.degenerate));
   output->GetCellData()->AddArray(MakeFlagArray("Sliver", report.sliver));
-  output->GetPointData()->AddArray(MakeDoubleArray("InverseMass", report.inverseMass));
+  output->GetPointData()->AddArray(vtkSoftBodyArrays::MakeScalarArray("InverseMass", report.inverseMass));
   FillHistograms(histograms, report);
-  AddSummary(output->GetFieldData(), report, this->Integrator);
-  AddSummary(histograms->GetFieldData(), report, this->Integrator);
+  AddSummary(output->GetFieldData(), report, this->P.Integrator);
+  AddSummary(histograms->GetFieldData(), report, this->P.Integrator);
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -270,18 +225,18 @@ int vtkSoftBodyMeshQuality::RequestData(
 void vtkSoftBodyMeshQuality::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Integrator: " << this->Integrator << "\n";
-  os << indent << "MaterialMode: " << this->MaterialMode << "\n";
-  os << indent << "YoungsModulus: " << this->YoungsModulus << "\n";
-  os << indent << "PoissonRatio: " << this->PoissonRatio << "\n";
-  os << indent << "Density: " << this->Density << "\n";
-  os << indent << "DampingTime: " << this->DampingTime << "\n";
-  os << indent << "DistanceStiffness: " << this->DistanceStiffness << "\n";
-  os << indent << "DistanceDamping: " << this->DistanceDamping << "\n";
-  os << indent << "VolumeStiffness: " << this->VolumeStiffness << "\n";
-  os << indent << "VolumeDamping: " << this->VolumeDamping << "\n";
-  os << indent << "TotalMass: " << this->TotalMass << "\n";
-  os << indent << "MassDistribution: " << this->MassDistribution << "\n";
+  os << indent << "Integrator: " << this->P.Integrator << "\n";
+  os << indent << "MaterialMode: " << this->P.MaterialMode << "\n";
+  os << indent << "YoungsModulus: " << this->P.YoungsModulus << "\n";
+  os << indent << "PoissonRatio: " << this->P.PoissonRatio << "\n";
+  os << indent << "Density: " << this->P.Density << "\n";
+  os << indent << "DampingTime: " << this->P.DampingTime << "\n";
+  os << indent << "DistanceStiffness: " << this->P.DistanceStiffness << "\n";
+  os << indent << "DistanceDamping: " << this->P.DistanceDamping << "\n";
+  os << indent << "VolumeStiffness: " << this->P.VolumeStiffness << "\n";
+  os << indent << "VolumeDamping: " << this->P.VolumeDamping << "\n";
+  os << indent << "TotalMass: " << this->P.TotalMass << "\n";
+  os << indent << "MassDistribution: " << this->P.MassDistribution << "\n";
   os << indent << "SliverAngle: " << this->SliverAngle << "\n";
   os << indent << "NumberOfBins: " << this->NumberOfBins << "\n";
   os << indent << "TruncationMassBudget: " << this->TruncationMassBudget << " %\n";

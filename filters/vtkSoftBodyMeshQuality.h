@@ -34,6 +34,7 @@
 #define vtkSoftBodyMeshQuality_h
 
 #include "SoftBodyFiltersModule.h" // for export macro
+#include "vtkSoftBodyFilter.h" // for vtkSoftBodyFilter::Parameters
 #include "vtkUnstructuredGridAlgorithm.h"
 
 class SOFTBODYFILTERS_EXPORT vtkSoftBodyMeshQuality : public vtkUnstructuredGridAlgorithm
@@ -48,8 +49,7 @@ public:
    * Integrator whose stable step is reported, with vtkSoftBodyFilter's values: EULER (0),
    * MIDPOINT (1), VERLET (2), EULER_CROMER (3, default).
    */
-  vtkSetClampMacro(Integrator, int, 0, 3);
-  vtkGetMacro(Integrator, int);
+  vtkSoftBodyParameterMacro(Integrator, int);
   ///@}
 
   ///@{
@@ -60,28 +60,17 @@ public:
    * [J s] and TotalMass [kg]. MassDistribution: AVERAGE_INCIDENT_VOLUME (0, default) or
    * LUMPED_VOLUME (1).
    */
-  vtkSetClampMacro(MaterialMode, int, 0, 1);
-  vtkGetMacro(MaterialMode, int);
-  vtkSetClampMacro(YoungsModulus, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(YoungsModulus, double);
-  vtkSetClampMacro(PoissonRatio, double, 0.0, 0.5);
-  vtkGetMacro(PoissonRatio, double);
-  vtkSetClampMacro(Density, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(Density, double);
-  vtkSetClampMacro(DampingTime, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(DampingTime, double);
-  vtkSetClampMacro(DistanceStiffness, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(DistanceStiffness, double);
-  vtkSetClampMacro(DistanceDamping, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(DistanceDamping, double);
-  vtkSetClampMacro(VolumeStiffness, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(VolumeStiffness, double);
-  vtkSetClampMacro(VolumeDamping, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(VolumeDamping, double);
-  vtkSetClampMacro(TotalMass, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(TotalMass, double);
-  vtkSetClampMacro(MassDistribution, int, 0, 1);
-  vtkGetMacro(MassDistribution, int);
+  vtkSoftBodyParameterMacro(MaterialMode, int);
+  vtkSoftBodyParameterMacro(YoungsModulus, double);
+  vtkSoftBodyParameterMacro(PoissonRatio, double);
+  vtkSoftBodyParameterMacro(Density, double);
+  vtkSoftBodyParameterMacro(DampingTime, double);
+  vtkSoftBodyParameterMacro(DistanceStiffness, double);
+  vtkSoftBodyParameterMacro(DistanceDamping, double);
+  vtkSoftBodyParameterMacro(VolumeStiffness, double);
+  vtkSoftBodyParameterMacro(VolumeDamping, double);
+  vtkSoftBodyParameterMacro(TotalMass, double);
+  vtkSoftBodyParameterMacro(MassDistribution, int);
   ///@}
 
   ///@{
@@ -92,11 +81,11 @@ public:
    * adds at most this percentage to the body's mass (default 1): the largest stable-step gain
    * that costs no more mass than that.
    */
-  vtkSetClampMacro(SliverAngle, double, 0.0, 180.0);
+  vtkSetMacro(SliverAngle, double);
   vtkGetMacro(SliverAngle, double);
-  vtkSetClampMacro(NumberOfBins, int, 1, 100000);
+  vtkSetMacro(NumberOfBins, int);
   vtkGetMacro(NumberOfBins, int);
-  vtkSetClampMacro(TruncationMassBudget, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(TruncationMassBudget, double);
   vtkGetMacro(TruncationMassBudget, double);
   ///@}
 
@@ -109,19 +98,8 @@ protected:
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 
-  int Integrator = 3;
-  int MaterialMode = 0;
-  double YoungsModulus = 1.0e5;
-  double PoissonRatio = 0.3;
-  double Density = 1100.0;
-  double DampingTime = 2.0e-3;
-  // Raw-mode defaults; the constructor copies them from softbody::RawConstants.
-  double DistanceStiffness = 0.0;
-  double DistanceDamping = 0.0;
-  double VolumeStiffness = 0.0;
-  double VolumeDamping = 0.0;
-  double TotalMass = 0.0;
-  int MassDistribution = 0;
+  // The properties shared with the Soft Body filter, with its defaults and its conversion.
+  vtkSoftBodyFilter::Parameters P;
   double SliverAngle = 5.0;
   int NumberOfBins = 32;
   double TruncationMassBudget = 1.0;

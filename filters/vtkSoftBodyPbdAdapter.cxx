@@ -1,6 +1,6 @@
 #include "vtkSoftBodyPbdAdapter.h"
 
-#include "vtkSoftBodyFilter.h"
+#include "vtkSoftBodySettings.h"
 #include "vtkSoftBodyInputConversion.h"
 
 #include "vtkCellData.h"
@@ -15,85 +15,20 @@
 
 #include <cmath>
 
-namespace
-{
-softbody::Vec3 ToVec3(const double v[3])
-{
-  return { v[0], v[1], v[2] };
-}
-
-softbody::PbdSettings MakeSettings(vtkSoftBodyFilter& f)
-{
-  softbody::PbdSettings s;
-  s.formulation = f.GetMethod() == vtkSoftBodyFilter::XPBD ? softbody::PbdFormulation::Xpbd
-                                                           : softbody::PbdFormulation::Pbd;
-  switch (f.GetSolver())
-  {
-    case vtkSoftBodyFilter::JACOBI:
-      s.solver = softbody::PbdSolver::Jacobi;
-      break;
-    case vtkSoftBodyFilter::PARALLEL_GAUSS_SEIDEL:
-      s.solver = softbody::PbdSolver::ParallelGaussSeidel;
-      break;
-    default:
-      s.solver = softbody::PbdSolver::GaussSeidel;
-  }
-  s.prediction = f.GetIntegrator() == vtkSoftBodyFilter::VERLET ? softbody::PbdPrediction::Verlet
-                                                                : softbody::PbdPrediction::SymplecticEuler;
-  s.timeStep = f.GetTimeStep();
-  s.substeps = f.GetSubsteps();
-  s.iterations = f.GetIterations();
-  s.residualTolerance = f.GetResidualTolerance();
-  s.relaxation = f.GetRelaxation();
-  double gravity[3], origin[3], normal[3];
-  f.GetGravity(gravity);
-  f.GetFloorOrigin(origin);
-  f.GetFloorNormal(normal);
-  s.gravity = ToVec3(gravity);
-  s.damping = f.GetVelocityDamping();
-  s.floorEnabled = f.GetFloor() != 0;
-  s.floor.origin = ToVec3(origin);
-  s.floor.normal = ToVec3(normal);
-  s.friction = f.GetFriction();
-  s.restitution = f.GetRestitution();
-  s.links = { f.GetPBDLinkStiffness(), f.GetXPBDLinkCompliance() };
-  s.volumes = { f.GetPBDVolumeStiffness(), f.GetXPBDVolumeCompliance() };
-  s.attachments = { f.GetPBDPinStiffness(), f.GetXPBDPinCompliance() };
-  s.elasticity.enabled = f.GetXPBDMaterial() == vtkSoftBodyFilter::XPBD_YOUNGS_MODULUS;
-  s.elasticity.youngsModulus = f.GetYoungsModulus();
-  s.elasticity.poissonRatio = f.GetPoissonRatio();
-  s.breakingStrain = f.GetBreakingStrain();
-  s.plasticYield = f.GetPlasticYield();
-  s.plasticCreep = f.GetPlasticCreep();
-  s.invertedTets = f.GetInvertedTets() == vtkSoftBodyFilter::REFUSE
-    ? softbody::InvertedTetPolicy::Refuse
-    : softbody::InvertedTetPolicy::Reorient;
-  return s;
-}
-} // namespace
-
 //------------------------------------------------------------------------------
-std::unique_ptr<softbody::PbdSimulation> vtkSoftBodyPbdAdapter::Create(vtkSoftBodyFilter& filter,
-  vtkUnstructuredGrid* input, const std::string& pinnedArrayName, std::string& error)
+std::unique_ptr<softbody::PbdSimulation> vtkSoftBodyPbdAdapter::Create(
+  const vtkSoftBodyCoreSettings& coreSettings, vtkUnstructuredGrid* input, std::string& error)
 {
-  const int integrator = filter.GetIntegrator();
-  if (integrator != vtkSoftBodyFilter::EULER_CROMER && integrator != vtkSoftBodyFilter::VERLET)
-  {
-    error = "PBD and XPBD predict positions with Euler-Cromer (symplectic Euler) or Verlet; "
-            "choose one of those as the Integrator.";
-    return nullptr;
-  }
   softbody::PbdBody body;
-  error = vtkSoftBodyInputConversion::ConvertParticles(input, pinnedArrayName, body, this->TetCells, this->LinkCells);
+  error = vtkSoftBodyInputConversion::ConvertParticles(
+    input, coreSettings.PinnedPointsArray, body, this->TetCells, this->LinkCells);
   if (!error.empty())
   {
     return nullptr;
   }
-  body.density = filter.GetDensity();
-  body.massDistribution = filter.GetMassDistribution() == vtkSoftBodyFilter::LUMPED_VOLUME
-    ? softbody::MassDistribution::LumpedVolume
-    : softbody::MassDistribution::AverageIncidentVolume;
-  softbody::PbdSettings settings = MakeSettings(filter);
+  body.density = coreSettings.PbdDensity;
+  body.massDistribution = coreSettings.PbdMassDistribution;
+  softbody::PbdSettings settings = coreSettings.Pbd;
   // A Soft Body Voxelize lattice says how large its particles are: they then rest on the floor
   // with their surface, not their center.
   if (vtkDataArray* radius = input->GetFieldData()->GetArray("ParticleRadius"))

@@ -1,7 +1,7 @@
 /**
  * @class   vtkSoftBodyPbdAdapter
- * @brief   The PBD/XPBD side of vtkSoftBodyFilter: its properties as core settings, the body
- *          from the input, and the outputs only position-based methods have.
+ * @brief   The PBD/XPBD side of vtkSoftBodyFilter: the body from the input, and the outputs
+ *          only position-based methods have.
  *
  * Kept apart from the filter so the filter stays a dispatcher between methods.
  */
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-class vtkSoftBodyFilter;
+struct vtkSoftBodyCoreSettings;
 class vtkTable;
 class vtkUnstructuredGrid;
 
@@ -25,8 +25,8 @@ class vtkSoftBodyPbdAdapter
 public:
   /// Converts the input and builds the simulation. Returns null and sets `error` for input the
   /// filter must refuse; throws softbody::InvalidInputError for what core refuses.
-  std::unique_ptr<softbody::PbdSimulation> Create(vtkSoftBodyFilter& filter,
-    vtkUnstructuredGrid* input, const std::string& pinnedArrayName, std::string& error);
+  std::unique_ptr<softbody::PbdSimulation> Create(
+    const vtkSoftBodyCoreSettings& settings, vtkUnstructuredGrid* input, std::string& error);
 
   /// Cell array "Broken" (a broken link, or a tet with a broken edge) and, where any cell is
   /// broken, vtkGhostType with HIDDENCELL on those cells so renderings show the fragments apart.

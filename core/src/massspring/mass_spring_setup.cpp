@@ -2,6 +2,7 @@
 #include "softbody/common/stepping.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/common/validation.h"
 #include "softbody/massspring/stability.h"
 
 #include <cmath>
@@ -14,32 +15,20 @@ namespace
 
 void validateScene(const SceneSettings& scene)
 {
-  auto fail = [](const std::string& message) { throw InvalidInputError(message); };
-  if (!(scene.timeStep >= 0.0) || !std::isfinite(scene.timeStep))
+  check::nonNegative("TimeStep", scene.timeStep, "s", "automatic");
+  check::finite("Gravity", scene.gravity);
+  if (scene.floorEnabled)
   {
-    fail("TimeStep must be 0 (automatic) or a positive number of seconds.");
+    check::finite("FloorOrigin", scene.floor.origin);
+    check::nonZeroDirection("FloorNormal", scene.floor.normal);
   }
-  if (!scene.gravity.allFinite())
+  if (scene.strainLimit != 0.0 && !(scene.strainLimit > 1.0 && std::isfinite(scene.strainLimit)))
   {
-    fail("Gravity must be finite.");
+    throw InvalidInputError("StrainLimit must be 0 (off) or a finite stretch factor > 1, got " +
+      check::quote(scene.strainLimit) + ".");
   }
-  if (scene.floorEnabled && (!(scene.floor.normal.norm() > 0.0) || !scene.floor.normal.allFinite() ||
-                              !scene.floor.origin.allFinite()))
-  {
-    fail("FloorNormal must be a nonzero finite vector and FloorOrigin finite.");
-  }
-  if (scene.strainLimit != 0.0 && !(scene.strainLimit > 1.0))
-  {
-    fail("StrainLimit must be 0 (off) or a stretch factor greater than 1.");
-  }
-  if (scene.strainLimitIterations < 1)
-  {
-    fail("StrainLimitIterations must be at least 1.");
-  }
-  if (!(scene.stabilitySafety > 0.0 && scene.stabilitySafety <= 1.0))
-  {
-    fail("The stability safety factor must be in (0, 1].");
-  }
+  check::atLeast("StrainLimitIterations", scene.strainLimitIterations, 1);
+  check::inRange("stability safety factor", scene.stabilitySafety, 0.0, 1.0, true, false);
 }
 
 /// Step size from the stability estimate (auto mode) or the user's choice, with warnings.

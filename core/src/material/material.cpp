@@ -1,6 +1,7 @@
 #include "softbody/material/material.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/common/validation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,26 +15,6 @@ namespace
 
 // Smallest Poisson ratio a central-force spring network can represent (lambda = mu).
 constexpr double kNetworkPoissonRatio = 0.25;
-
-void requirePositive(double value, const char* name)
-{
-  if (!(value > 0.0) || !std::isfinite(value))
-  {
-    std::ostringstream message;
-    message << name << " must be a positive finite number (got " << value << ").";
-    throw InvalidInputError(message.str());
-  }
-}
-
-void requireNonNegative(double value, const char* name)
-{
-  if (!(value >= 0.0) || !std::isfinite(value))
-  {
-    std::ostringstream message;
-    message << name << " must be zero or a positive finite number (got " << value << ").";
-    throw InvalidInputError(message.str());
-  }
-}
 
 struct EnergyConstants
 {
@@ -57,15 +38,10 @@ void validateMaterial(const MaterialSettings& material, std::vector<std::string>
   if (material.mode == MaterialMode::Physical)
   {
     const PhysicalMaterial& m = material.physical;
-    requirePositive(m.youngsModulus, "YoungsModulus");
-    requirePositive(m.density, "Density");
-    requireNonNegative(m.dampingTime, "DampingTime");
-    if (!(m.poissonRatio >= 0.0 && m.poissonRatio < 0.5))
-    {
-      std::ostringstream message;
-      message << "PoissonRatio must be in [0, 0.5) (got " << m.poissonRatio << ").";
-      throw InvalidInputError(message.str());
-    }
+    check::positive("YoungsModulus", m.youngsModulus, "Pa");
+    check::positive("Density", m.density, "kg/m^3");
+    check::nonNegative("DampingTime", m.dampingTime, "s", "undamped");
+    check::inRange("PoissonRatio", m.poissonRatio, 0.0, 0.5, false, true);
     if (m.poissonRatio < kNetworkPoissonRatio)
     {
       std::ostringstream message;
@@ -78,13 +54,13 @@ void validateMaterial(const MaterialSettings& material, std::vector<std::string>
   else
   {
     const RawConstants& r = material.raw;
-    requireNonNegative(r.distanceStiffness, "DistanceStiffness");
-    requireNonNegative(r.distanceDamping, "DistanceDamping");
-    requireNonNegative(r.volumeStiffness, "VolumeStiffness");
-    requireNonNegative(r.volumeDamping, "VolumeDamping");
-    requirePositive(r.totalMass, "TotalMass");
+    check::nonNegative("DistanceStiffness", r.distanceStiffness, "J");
+    check::nonNegative("DistanceDamping", r.distanceDamping, "J s");
+    check::nonNegative("VolumeStiffness", r.volumeStiffness, "J");
+    check::nonNegative("VolumeDamping", r.volumeDamping, "J s");
+    check::positive("TotalMass", r.totalMass, "kg");
   }
-  requireNonNegative(material.maxInverseMass, "MaxInverseMass");
+  check::nonNegative("MaxInverseMass", material.maxInverseMass, "1/kg", "off");
 }
 
 double totalMassOf(const MaterialSettings& material, double restVolume)

@@ -3,6 +3,7 @@
 #include "softbody/pbd/pbd_simulation.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/common/validation.h"
 #include "softbody/material/mass.h"
 #include "softbody/material/material.h"
 #include "softbody/mesh/tet_mesh.h"
@@ -19,53 +20,35 @@ namespace
 
 void validateSettings(const PbdSettings& s)
 {
-  auto fail = [](const std::string& message) { throw InvalidInputError(message); };
-  if (!(s.timeStep >= 0.0) || !std::isfinite(s.timeStep))
+  check::nonNegative("TimeStep", s.timeStep, "s", "automatic");
+  check::atLeast("Substeps", s.substeps, 1);
+  check::atLeast("Iterations", s.iterations, 1);
+  check::nonNegative("ResidualTolerance", s.residualTolerance, "", "run every iteration");
+  check::inRange("Relaxation", s.relaxation, 0.0, 2.0, true, true);
+  check::finite("Gravity", s.gravity);
+  check::nonNegative("VelocityDamping", s.damping, "1/s", "undamped");
+  if (s.floorEnabled)
   {
-    fail("TimeStep must be 0 (automatic) or a positive number of seconds.");
+    check::finite("FloorOrigin", s.floor.origin);
+    check::nonZeroDirection("FloorNormal", s.floor.normal);
   }
-  if (s.substeps < 1 || s.iterations < 1)
+  check::nonNegative("ParticleRadius", s.particleRadius, "m");
+  check::nonNegative("Friction", s.friction, "", "frictionless");
+  check::inRange("Restitution", s.restitution, 0.0, 1.0);
+  check::inRange("PBDLinkStiffness", s.links.stiffness, 0.0, 1.0);
+  check::inRange("PBDVolumeStiffness", s.volumes.stiffness, 0.0, 1.0);
+  check::inRange("PBDPinStiffness", s.attachments.stiffness, 0.0, 1.0);
+  check::nonNegative("XPBDLinkCompliance", s.links.compliance, "m/N", "rigid");
+  check::nonNegative("XPBDVolumeCompliance", s.volumes.compliance, "m^3/Pa", "rigid");
+  check::nonNegative("XPBDPinCompliance", s.attachments.compliance, "m/N", "rigid");
+  if (s.elasticity.enabled)
   {
-    fail("Substeps and Iterations must be at least 1.");
+    check::positive("YoungsModulus", s.elasticity.youngsModulus, "Pa");
+    check::inRange("PoissonRatio", s.elasticity.poissonRatio, 0.0, 0.5, false, true);
   }
-  if (!(s.residualTolerance >= 0.0) || !std::isfinite(s.residualTolerance))
-  {
-    fail("ResidualTolerance must be 0 (fixed iteration count) or positive.");
-  }
-  if (!(s.relaxation > 0.0 && s.relaxation < 2.0))
-  {
-    fail("Relaxation must lie in (0, 2); 1 is plain Gauss-Seidel or Jacobi.");
-  }
-  if (!s.gravity.allFinite() || !(s.damping >= 0.0) || !std::isfinite(s.damping))
-  {
-    fail("Gravity must be finite and Damping a non-negative rate [1/s].");
-  }
-  if (s.floorEnabled && (!(s.floor.normal.norm() > 0.0) || !s.floor.normal.allFinite() ||
-                          !s.floor.origin.allFinite()))
-  {
-    fail("FloorNormal must be a nonzero finite vector and FloorOrigin finite.");
-  }
-  if (!(s.particleRadius >= 0.0) || !(s.friction >= 0.0) || !std::isfinite(s.friction) ||
-    !(s.restitution >= 0.0 && s.restitution <= 1.0))
-  {
-    fail("ParticleRadius and Friction must be non-negative and Restitution in [0, 1].");
-  }
-  for (const ConstraintMaterial* m : { &s.links, &s.volumes, &s.attachments })
-  {
-    if (!(m->stiffness >= 0.0 && m->stiffness <= 1.0))
-    {
-      fail("PBD stiffnesses must lie in [0, 1].");
-    }
-    if (!(m->compliance >= 0.0) || !std::isfinite(m->compliance))
-    {
-      fail("XPBD compliances must be non-negative and finite.");
-    }
-  }
-  if (!(s.breakingStrain >= 0.0) || !(s.plasticYield >= 0.0) || !(s.plasticCreep >= 0.0) ||
-    !std::isfinite(s.breakingStrain + s.plasticYield + s.plasticCreep))
-  {
-    fail("BreakingStrain, PlasticYield and PlasticCreep must be non-negative (0 = off).");
-  }
+  check::nonNegative("BreakingStrain", s.breakingStrain, "", "unbreakable");
+  check::nonNegative("PlasticYield", s.plasticYield, "", "elastic");
+  check::nonNegative("PlasticCreep", s.plasticCreep, "1/s");
 }
 
 bool hardAttachment(const PbdSettings& s)

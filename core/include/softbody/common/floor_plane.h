@@ -11,6 +11,7 @@ struct FloorPlane
 {
   Vec3 origin{ 0.0, 0.0, 0.0 };
   Vec3 normal{ 0.0, 0.0, 1.0 }; ///< unit length (normalized by the simulation)
+  bool operator==(const FloorPlane&) const = default;
 };
 
 } // namespace softbody

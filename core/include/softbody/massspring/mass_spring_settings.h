@@ -27,6 +27,7 @@ struct SceneSettings
   InvertedTetPolicy invertedTets = InvertedTetPolicy::Reorient;
   /// A state is declared exploded when a spring grows past this factor of its rest length.
   double divergenceStretch = 100.0;
+  bool operator==(const SceneSettings&) const = default;
 };
 
 struct BodyDescription

@@ -44,6 +44,7 @@ struct PhysicalMaterial
   double poissonRatio = 0.3;    ///< nu in [0.25, 0.5); below 0.25 is clamped to 0.25
   double density = 1100.0;      ///< rho [kg/m^3]
   double dampingTime = 2.0e-3;  ///< beta [s]: stiffness-proportional damping
+  bool operator==(const PhysicalMaterial&) const = default;
 };
 
 struct RawConstants
@@ -53,6 +54,7 @@ struct RawConstants
   double volumeStiffness = 100.0;   ///< k_V [J]
   double volumeDamping = 0.1;       ///< k_V,d [J s]
   double totalMass = 1.0;           ///< [kg]
+  bool operator==(const RawConstants&) const = default;
 };
 
 struct MaterialSettings
@@ -64,6 +66,7 @@ struct MaterialSettings
   /// Largest allowed inverse mass [1/kg]; larger ones are truncated (the point gets heavier).
   /// 0 disables truncation.
   double maxInverseMass = 0.0;
+  bool operator==(const MaterialSettings&) const = default;
 };
 
 /// Per-element constants in the units the force kernels use directly.

@@ -34,6 +34,7 @@ struct ConstraintMaterial
 {
   double stiffness = 1.0;  ///< PBD, in [0, 1]
   double compliance = 0.0; ///< XPBD, >= 0; units: inverse of the constraint's stiffness
+  bool operator==(const ConstraintMaterial&) const = default;
 };
 
 struct PbdSettings
@@ -76,6 +77,7 @@ struct PbdSettings
     bool enabled = false;
     double youngsModulus = 1.0e5; ///< [Pa]
     double poissonRatio = 0.3;
+    bool operator==(const Elasticity&) const = default;
   } elasticity;
 
   /// A link breaks when |l - l0| / l0 (l0 its original rest length) passes this; 0 = unbreakable.
@@ -86,6 +88,7 @@ struct PbdSettings
   double plasticCreep = 0.0;
 
   InvertedTetPolicy invertedTets = InvertedTetPolicy::Reorient;
+  bool operator==(const PbdSettings&) const = default;
 };
 
 constexpr double kDefaultPbdStep = 1.0 / 120.0;

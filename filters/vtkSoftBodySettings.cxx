@@ -1,0 +1,228 @@
+#include "vtkSoftBodySettings.h"
+
+#include "vtkSoftBodyInputConversion.h"
+
+#include "softbody/common/errors.h"
+#include "softbody/common/validation.h"
+
+namespace
+{
+softbody::Vec3 ToVec3(const double v[3])
+{
+  return { v[0], v[1], v[2] };
+}
+
+/// The value of an enumeration property, refused when it is not one of `count` choices.
+int Choice(const char* name, int value, int count, const char* choices)
+{
+  if (value < 0 || value >= count)
+  {
+    softbody::check::badChoice(name, value, choices);
+  }
+  return value;
+}
+
+softbody::MassDistribution CoreMassDistribution(int value)
+{
+  return Choice("MassDistribution", value, 2, "0 (average incident volume), 1 (lumped volume)") ==
+      vtkSoftBodyFilter::LUMPED_VOLUME
+    ? softbody::MassDistribution::LumpedVolume
+    : softbody::MassDistribution::AverageIncidentVolume;
+}
+
+softbody::InvertedTetPolicy CoreInvertedTets(int value)
+{
+  return Choice("InvertedTets", value, 2, "0 (reorient), 1 (refuse)") == vtkSoftBodyFilter::REFUSE
+    ? softbody::InvertedTetPolicy::Refuse
+    : softbody::InvertedTetPolicy::Reorient;
+}
+
+void ConvertMassSpring(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings& settings)
+{
+  softbody::SceneSettings& scene = settings.Scene;
+  scene.integrator = vtkSoftBodySettings::Integrator(p.Integrator);
+  scene.timeStep = p.TimeStep;
+  scene.gravity = ToVec3(p.Gravity);
+  scene.floorEnabled = p.Floor != 0;
+  if (scene.floorEnabled)
+  {
+    scene.floor.origin = ToVec3(p.FloorOrigin);
+    scene.floor.normal = ToVec3(p.FloorNormal);
+  }
+  scene.strainLimit = p.StrainLimit;
+  if (p.StrainLimit != 0.0)
+  {
+    scene.strainLimitIterations = p.StrainLimitIterations;
+  }
+  scene.invertedTets = CoreInvertedTets(p.InvertedTets);
+  settings.Material = vtkSoftBodySettings::Material(p);
+  settings.Device =
+    Choice("Device", p.Device, 2, "0 (CPU), 1 (GPU (EGL))");
+}
+
+void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings& settings)
+{
+  softbody::PbdSettings& s = settings.Pbd;
+  const bool xpbd = p.Method == vtkSoftBodyFilter::XPBD;
+  s.formulation = xpbd ? softbody::PbdFormulation::Xpbd : softbody::PbdFormulation::Pbd;
+  switch (Choice("Solver", p.Solver, 3, "0 (Gauss-Seidel), 1 (Jacobi), 2 (parallel Gauss-Seidel)"))
+  {
+    case vtkSoftBodyFilter::JACOBI:
+      s.solver = softbody::PbdSolver::Jacobi;
+      break;
+    case vtkSoftBodyFilter::PARALLEL_GAUSS_SEIDEL:
+      s.solver = softbody::PbdSolver::ParallelGaussSeidel;
+      break;
+    default:
+      s.solver = softbody::PbdSolver::GaussSeidel;
+  }
+  if (p.Integrator != vtkSoftBodyFilter::EULER_CROMER && p.Integrator != vtkSoftBodyFilter::VERLET)
+  {
+    throw softbody::InvalidInputError("PBD and XPBD predict positions with Euler-Cromer "
+                                      "(symplectic Euler, 3) or Verlet (2); Integrator is " +
+      std::to_string(p.Integrator) + ". Choose one of those two.");
+  }
+  s.prediction = p.Integrator == vtkSoftBodyFilter::VERLET ? softbody::PbdPrediction::Verlet
+                                                           : softbody::PbdPrediction::SymplecticEuler;
+  s.timeStep = p.TimeStep;
+  s.substeps = p.Substeps;
+  s.iterations = p.Iterations;
+  s.residualTolerance = p.ResidualTolerance;
+  s.relaxation = p.Relaxation;
+  s.gravity = ToVec3(p.Gravity);
+  s.damping = p.VelocityDamping;
+  s.floorEnabled = p.Floor != 0;
+  if (s.floorEnabled)
+  {
+    s.floor.origin = ToVec3(p.FloorOrigin);
+    s.floor.normal = ToVec3(p.FloorNormal);
+    s.friction = p.Friction;
+    s.restitution = p.Restitution;
+  }
+  // Each formulation reads only its own constants: PBD stiffnesses, XPBD compliances (or
+  // Young's modulus), so the other's properties do not invalidate the cache.
+  if (xpbd)
+  {
+    s.links.compliance = p.XPBDLinkCompliance;
+    s.volumes.compliance = p.XPBDVolumeCompliance;
+    s.attachments.compliance = p.XPBDPinCompliance;
+    if (Choice("XPBDMaterial", p.XPBDMaterial, 2, "0 (compliances), 1 (Young's modulus)") ==
+      vtkSoftBodyFilter::XPBD_YOUNGS_MODULUS)
+    {
+      s.elasticity.enabled = true;
+      s.elasticity.youngsModulus = p.YoungsModulus;
+      s.elasticity.poissonRatio = p.PoissonRatio;
+    }
+  }
+  else
+  {
+    s.links.stiffness = p.PBDLinkStiffness;
+    s.volumes.stiffness = p.PBDVolumeStiffness;
+    s.attachments.stiffness = p.PBDPinStiffness;
+  }
+  s.breakingStrain = p.BreakingStrain;
+  s.plasticYield = p.PlasticYield;
+  if (p.PlasticYield > 0.0)
+  {
+    s.plasticCreep = p.PlasticCreep;
+  }
+  s.invertedTets = CoreInvertedTets(p.InvertedTets);
+  settings.PbdDensity = p.Density;
+  settings.PbdMassDistribution = CoreMassDistribution(p.MassDistribution);
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+softbody::Integrator vtkSoftBodySettings::Integrator(int integrator)
+{
+  switch (Choice("Integrator", integrator, 4, "0 (Euler), 1 (Midpoint), 2 (Verlet), 3 (Euler-Cromer)"))
+  {
+    case vtkSoftBodyFilter::EULER:
+      return softbody::Integrator::Euler;
+    case vtkSoftBodyFilter::MIDPOINT:
+      return softbody::Integrator::Midpoint;
+    case vtkSoftBodyFilter::VERLET:
+      return softbody::Integrator::Verlet;
+    default:
+      return softbody::Integrator::EulerCromer;
+  }
+}
+
+//------------------------------------------------------------------------------
+softbody::MaterialSettings vtkSoftBodySettings::Material(const vtkSoftBodyFilter::Parameters& p)
+{
+  softbody::MaterialSettings material;
+  if (Choice("MaterialMode", p.MaterialMode, 2, "0 (physical), 1 (raw constants)") ==
+    vtkSoftBodyFilter::RAW_CONSTANTS)
+  {
+    material.mode = softbody::MaterialMode::Raw;
+    material.raw.distanceStiffness = p.DistanceStiffness;
+    material.raw.distanceDamping = p.DistanceDamping;
+    material.raw.volumeStiffness = p.VolumeStiffness;
+    material.raw.volumeDamping = p.VolumeDamping;
+    material.raw.totalMass = p.TotalMass;
+  }
+  else
+  {
+    material.mode = softbody::MaterialMode::Physical;
+    material.physical.youngsModulus = p.YoungsModulus;
+    material.physical.poissonRatio = p.PoissonRatio;
+    material.physical.density = p.Density;
+    material.physical.dampingTime = p.DampingTime;
+  }
+  material.massDistribution = CoreMassDistribution(p.MassDistribution);
+  material.maxInverseMass = p.MaxInverseMass;
+  return material;
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftBodySettings::ValidateTimes(const vtkSoftBodyFilter::Parameters& p)
+{
+  softbody::check::positive("EndTime", p.EndTime, "s");
+  softbody::check::positive("FrameInterval", p.FrameInterval, "s");
+  if (p.EndTime / p.FrameInterval > MaxFrames)
+  {
+    throw softbody::InvalidInputError("EndTime / FrameInterval = " +
+      softbody::check::quote(p.EndTime) + " s / " + softbody::check::quote(p.FrameInterval) +
+      " s gives more than " + softbody::check::quote(MaxFrames) +
+      " frames; increase FrameInterval.");
+  }
+  softbody::check::atLeast("CacheMemoryLimit", p.CacheMemoryLimit, 0);
+}
+
+//------------------------------------------------------------------------------
+vtkSoftBodyCoreSettings vtkSoftBodySettings::Convert(const vtkSoftBodyFilter::Parameters& p)
+{
+  ValidateTimes(p);
+  vtkSoftBodyCoreSettings settings;
+  settings.Method = Choice("Method", p.Method, 3, "0 (Mass-Spring), 1 (PBD), 2 (XPBD)");
+  settings.FrameInterval = p.FrameInterval;
+  settings.PinnedPointsArray =
+    vtkSoftBodyInputConversion::IsNoArray(p.PinnedPointsArray) ? "" : p.PinnedPointsArray;
+  if (settings.Method == vtkSoftBodyFilter::MASS_SPRING)
+  {
+    ConvertMassSpring(p, settings);
+  }
+  else
+  {
+    ConvertPbd(p, settings);
+  }
+  return settings;
+}
+
+//------------------------------------------------------------------------------
+std::vector<std::string> vtkSoftBodySettings::Warnings(const vtkSoftBodyFilter::Parameters& p)
+{
+  std::vector<std::string> warnings;
+  if (p.CacheMemoryLimit == 0)
+  {
+    warnings.push_back("CacheMemoryLimit is 0 MiB: only frame 0 is cached, so every time "
+                       "request simulates again from the start or the last frame; set a budget "
+                       "(default 512 MiB) to scrub and replay without simulating.");
+  }
+  if (p.Method != vtkSoftBodyFilter::MASS_SPRING && p.Device == vtkSoftBodyFilter::DEVICE_GPU_EGL)
+  {
+    warnings.push_back("Device GPU (EGL) runs Mass-Spring only; PBD and XPBD run on the CPU.");
+  }
+  return warnings;
+}

@@ -1,0 +1,67 @@
+/**
+ * @file   vtkSoftBodySettings.h
+ * @brief  The one place where the Soft Body filters' properties become core settings.
+ *
+ * vtkSoftBodyFilter (Mass-Spring and PBD/XPBD) and vtkSoftBodyMeshQuality hold their properties
+ * in a vtkSoftBodyFilter::Parameters; these functions turn it into the core settings the
+ * selected method reads. Enumerations out of their lists and time-grid values are refused
+ * here; every other range is checked by core when the simulation is built, so each refusal is
+ * said once, with the value the user gave.
+ */
+#ifndef vtkSoftBodySettings_h
+#define vtkSoftBodySettings_h
+
+#include "vtkSoftBodyFilter.h"
+
+#include "softbody/massspring/mass_spring_settings.h"
+#include "softbody/pbd/pbd_settings.h"
+
+#include <string>
+
+/**
+ * What a Soft Body simulation is built from, apart from the input: only the settings of the
+ * selected method are filled (the others stay default), so this is also the frame cache's key:
+ * changing a property the method ignores leaves it equal and keeps the cache.
+ */
+struct vtkSoftBodyCoreSettings
+{
+  int Method = vtkSoftBodyFilter::MASS_SPRING;
+  int Device = vtkSoftBodyFilter::DEVICE_CPU; ///< as asked for (Mass-Spring only; PBD runs on the CPU)
+  double FrameInterval = 0.0;                 ///< frames are cached on this grid [s]
+  std::string PinnedPointsArray;              ///< empty: nothing pinned
+
+  // Mass-Spring
+  softbody::SceneSettings Scene;
+  softbody::MaterialSettings Material;
+
+  // PBD / XPBD
+  softbody::PbdSettings Pbd;
+  double PbdDensity = 0.0; ///< [kg/m^3] for bodies without a "Mass" point array
+  softbody::MassDistribution PbdMassDistribution = softbody::MassDistribution::AverageIncidentVolume;
+
+  bool operator==(const vtkSoftBodyCoreSettings&) const = default;
+};
+
+namespace vtkSoftBodySettings
+{
+/// The core settings for the selected method. Throws softbody::InvalidInputError for an
+/// enumeration value out of its list, a bad time grid or Cache memory limit (quoting the value).
+vtkSoftBodyCoreSettings Convert(const vtkSoftBodyFilter::Parameters& p);
+
+/// EndTime, FrameInterval (and their frame count) and CacheMemoryLimit; throws as Convert.
+void ValidateTimes(const vtkSoftBodyFilter::Parameters& p);
+
+/// The mass-spring material (Mass-Spring, and Mesh Quality's stability report).
+softbody::MaterialSettings Material(const vtkSoftBodyFilter::Parameters& p);
+
+/// The explicit integrator of the Integrator property.
+softbody::Integrator Integrator(int integrator);
+
+/// Warnings about accepted but noteworthy values (e.g. CacheMemoryLimit 0 turns caching off).
+std::vector<std::string> Warnings(const vtkSoftBodyFilter::Parameters& p);
+
+/// More frames than this is a typo (e.g. FrameInterval in ms), not a plan.
+constexpr double MaxFrames = 1.0e6;
+}
+
+#endif
