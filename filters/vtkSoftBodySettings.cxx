@@ -78,9 +78,11 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
   }
   if (p.Integrator != vtkSoftBodyFilter::EULER_CROMER && p.Integrator != vtkSoftBodyFilter::VERLET)
   {
-    throw softbody::InvalidInputError("PBD and XPBD predict positions with Euler-Cromer "
-                                      "(symplectic Euler, 3) or Verlet (2); Integrator is " +
-      std::to_string(p.Integrator) + ". Choose one of those two.");
+    throw softbody::InvalidInputError(std::string("PBD and XPBD predict positions with "
+                                                  "Euler-Cromer (3) or Verlet (2); Integrator is ") +
+      std::to_string(p.Integrator) + " (" +
+      softbody::integratorName(vtkSoftBodySettings::Integrator(p.Integrator)) +
+      "). Choose one of those two.");
   }
   s.prediction = p.Integrator == vtkSoftBodyFilter::VERLET ? softbody::PbdPrediction::Verlet
                                                            : softbody::PbdPrediction::SymplecticEuler;

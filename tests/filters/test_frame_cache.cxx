@@ -96,6 +96,39 @@ int main()
     a.Filter->SetGravity(0.0, 0.0, -9.81);
   }
 
+  // Properties the method ignores keep the cache: Mass-Spring reads no PBD/XPBD setting, and
+  // no floor friction or restitution; the key is the core settings actually produced.
+  {
+    Positions(a, FrameTime(5));
+    const unsigned long long before = a.Filter->GetSimulatedStepsTotal();
+    a.Filter->SetIterations(3);
+    a.Filter->SetSubsteps(4);
+    a.Filter->SetXPBDLinkCompliance(1.0);
+    a.Filter->SetFriction(0.9);
+    a.Filter->SetSolver(vtkSoftBodyFilter::JACOBI);
+    SB_CHECK(sbtest::BitwiseEqual(Positions(a, FrameTime(5)), first5), "same frame after ignored changes");
+    SB_CHECK(a.Filter->GetSimulatedStepsTotal() == before,
+      "Mass-Spring keeps its cache when PBD properties change (ran "
+        << a.Filter->GetSimulatedStepsTotal() - before << " steps)");
+  }
+  {
+    // Under XPBD, the PBD stiffnesses and the Mass-Spring damping are ignored; a compliance is not.
+    sbtest::CapturedFilter x(box);
+    Configure(x.Filter);
+    x.Filter->SetMethod(vtkSoftBodyFilter::XPBD);
+    const std::vector<double> xpbd5 = Positions(x, FrameTime(5));
+    const unsigned long long before = x.Filter->GetSimulatedStepsTotal();
+    x.Filter->SetPBDLinkStiffness(0.5);
+    x.Filter->SetDampingTime(0.1);
+    x.Filter->SetStrainLimit(1.2);
+    SB_CHECK(sbtest::BitwiseEqual(Positions(x, FrameTime(5)), xpbd5), "XPBD: same frame after ignored changes");
+    SB_CHECK(x.Filter->GetSimulatedStepsTotal() == before, "XPBD keeps its cache when Mass-Spring properties change");
+    x.Filter->SetXPBDLinkCompliance(1.0e-2);
+    Positions(x, FrameTime(5));
+    SB_CHECK(x.Filter->GetSimulatedStepsTotal() > before, "XPBD: a compliance change is simulated anew");
+    SB_CHECK(x.Messages->Errors.empty(), x.Messages->AllErrors());
+  }
+
   // Input changes invalidate: a shifted copy of the box falls the same way, shifted.
   {
     auto moved = sbtest::MakeTetBox(3, 3, 3, 0.05, { 0.0, 0.0, 0.2 });

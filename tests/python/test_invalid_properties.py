@@ -26,7 +26,8 @@ def expect_error(label, words, time=0.1):
     errors.clear()
     out = sbt.output_at(body, time)
     text = "".join(errors.errors)
-    print(f"  captured for {label}: {text.strip().splitlines()[1] if text.count(chr(10)) else text!r}")
+    lines = [line for line in text.strip().splitlines() if "must" in line or "got" in line]
+    print(f"  captured for {label}: {lines[0].strip() if lines else text!r}")
     sbt.check(bool(errors.errors), f"{label}: a VTK error is reported")
     sbt.check(all(w in text for w in words), f"{label}: the error names {words}")
     sbt.check(out is None or out.GetNumberOfPoints() == 0, f"{label}: the output is empty")
@@ -34,20 +35,38 @@ def expect_error(label, words, time=0.1):
 
 expect_valid("valid settings")
 
-# Each case: property values to set, words the error must contain, the values to restore.
+# Each case: property values to set, and words the error must contain: the property's name and
+# the value the user gave (setters never clamp, so the message quotes what was typed).
 cases = [
-    ({"EndTime": -1.0}, ["EndTime"]),
-    ({"EndTime": 0.0}, ["EndTime"]),
-    ({"FrameInterval": 0.0}, ["FrameInterval"]),
-    ({"FrameInterval": -0.1}, ["FrameInterval"]),
-    ({"TimeStep": float("nan")}, ["TimeStep"]),
-    ({"YoungsModulus": -5.0}, ["YoungsModulus"]),
-    ({"PoissonRatio": 0.5}, ["PoissonRatio"]),
-    ({"Density": 0.0}, ["Density"]),
-    ({"FloorNormal": [0.0, 0.0, 0.0]}, ["FloorNormal"]),
-    ({"StrainLimit": 0.5}, ["StrainLimit"]),
-    ({"MaterialMode": "Raw Constants", "TotalMass": 0.0}, ["TotalMass"]),
+    ({"EndTime": -1.0}, ["EndTime", "got -1"]),
+    ({"EndTime": 0.0}, ["EndTime", "got 0"]),
+    ({"FrameInterval": 0.0}, ["FrameInterval", "got 0"]),
+    ({"FrameInterval": -0.1}, ["FrameInterval", "got -0.1"]),
+    ({"TimeStep": float("nan")}, ["TimeStep", "got nan"]),
+    ({"TimeStep": -0.01}, ["TimeStep", "got -0.01"]),
+    ({"YoungsModulus": -5.0}, ["YoungsModulus", "got -5"]),
+    ({"PoissonRatio": 0.5}, ["PoissonRatio", "[0, 0.5)", "got 0.5"]),
+    ({"PoissonRatio": 0.7}, ["PoissonRatio", "got 0.7"]),
+    ({"Density": 0.0}, ["Density", "got 0"]),
+    ({"DampingTime": -1.0}, ["DampingTime", "got -1"]),
+    ({"FloorNormal": [0.0, 0.0, 0.0]}, ["FloorNormal", "got (0, 0, 0)"]),
+    ({"StrainLimit": 0.5}, ["StrainLimit", "got 0.5"]),
+    ({"StrainLimit": 1.1, "StrainLimitIterations": 0}, ["StrainLimitIterations", "got 0"]),
+    ({"MaxInverseMass": -2.0}, ["MaxInverseMass", "got -2"]),
+    ({"MaterialMode": "Raw Constants", "TotalMass": 0.0}, ["TotalMass", "got 0"]),
     ({"PinnedPointsArray": "NoSuchArray"}, ["NoSuchArray"]),
+    ({"CacheMemoryLimit": -1}, ["CacheMemoryLimit", "got -1"]),
+    # PBD / XPBD settings, refused only under the method that reads them.
+    ({"Method": "XPBD", "Iterations": 0}, ["Iterations", "got 0"]),
+    ({"Method": "XPBD", "Substeps": 0}, ["Substeps", "got 0"]),
+    ({"Method": "XPBD", "Relaxation": 2.5}, ["Relaxation", "(0, 2)", "got 2.5"]),
+    ({"Method": "XPBD", "Friction": -1.0}, ["Friction", "got -1"]),
+    ({"Method": "XPBD", "Restitution": 5.0}, ["Restitution", "[0, 1]", "got 5"]),
+    ({"Method": "XPBD", "XPBDLinkCompliance": -1e-4}, ["XPBDLinkCompliance", "got -0.0001"]),
+    ({"Method": "XPBD", "VelocityDamping": -3.0}, ["VelocityDamping", "got -3"]),
+    ({"Method": "PBD", "PBDVolumeStiffness": 1.5}, ["PBDVolumeStiffness", "got 1.5"]),
+    ({"Method": "XPBD", "BreakingStrain": -0.1}, ["BreakingStrain", "got -0.1"]),
+    ({"Method": "XPBD", "Integrator": "Midpoint"}, ["Integrator", "Euler-Cromer", "Verlet"]),
 ]
 for values, words in cases:
     # Copy the values: getattr returns a live property, which would follow the bad value.
@@ -70,6 +89,20 @@ body.Input = voxels
 expect_error("hexahedral input", ["tetrahedra"])
 body.Input = reader
 expect_valid("tetrahedral input again")
+
+# A property the method ignores is not checked: Iterations under Mass-Spring.
+body.Iterations = 0
+expect_valid("Iterations = 0 under Mass-Spring (ignored)")
+body.Iterations = 10
+
+# CacheMemoryLimit 0 is accepted with a warning that caching is off.
+body.CacheMemoryLimit = 0
+expect_valid("CacheMemoryLimit = 0")
+mesh = sbt.output_at(body, 0.1)
+warnings = sbt.field_value(mesh, "Warnings") or ""
+sbt.check("CacheMemoryLimit is 0" in warnings,
+          f"CacheMemoryLimit = 0 is warned in field data Warnings ({warnings})")
+body.CacheMemoryLimit = 512
 
 # A requested time before 0 is clamped to the first frame: no error.
 errors.clear()

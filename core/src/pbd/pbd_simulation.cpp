@@ -159,6 +159,7 @@ void PbdSimulation::sweep()
 double PbdSimulation::residual() const
 {
   ScopedStageTimer timer(Plan, Stage::Residual);
+  ++ResidualEvaluations;
   const std::vector<Vec3>& x = Predicted;
   // Only the constraint types the step solves: one of zero stiffness asks for nothing.
   double sum = 0.0;

@@ -52,6 +52,9 @@ public:
   /// default only the last step of each advance() records it.
   void setRecordResidualsEveryStep(bool record) { RecordEveryStep = record; }
   const PbdConvergence& convergence() const { return Convergence; }
+  /// Residual evaluations (one pass over the constraints each) since construction: the cost
+  /// of convergence reporting and tolerances, and proof of when they ran.
+  unsigned long long residualEvaluations() const { return ResidualEvaluations; }
 
   /// The batches as stored: in input order, except with the parallel solver, which stores them
   /// color by color (use linkBroken / tetBroken to ask about an input link or tet).
@@ -103,6 +106,7 @@ private:
   std::vector<std::string> Warnings;
   bool RecordEveryStep = false;
   PbdConvergence Convergence;
+  mutable unsigned long long ResidualEvaluations = 0;
 
   // Per-step scratch
   std::vector<Vec3> Predicted;
