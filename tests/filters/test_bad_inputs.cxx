@@ -164,5 +164,26 @@ int main()
     f.Filter->SetTimeStep(0.0);
     ExpectSuccess(f, "stable again");
   }
+  // Enumerations out of their lists (a C++ or pvpython caller can set any int): refused with
+  // the value, then the filter works again.
+  {
+    auto box = Box();
+    sbtest::CapturedFilter f(box);
+    f.Filter->SetMethod(7);
+    ExpectError(f, "Method 7", { "Method must be one of", "got 7" });
+    f.Filter->SetMethod(vtkSoftBodyFilter::MASS_SPRING);
+    f.Filter->SetIntegrator(-1);
+    ExpectError(f, "Integrator -1", { "Integrator must be one of", "got -1" });
+    f.Filter->SetIntegrator(vtkSoftBodyFilter::VERLET);
+    f.Filter->SetDevice(5);
+    ExpectError(f, "Device 5", { "Device", "got 5" });
+    f.Filter->SetDevice(vtkSoftBodyFilter::DEVICE_CPU);
+    f.Filter->SetMethod(vtkSoftBodyFilter::XPBD);
+    f.Filter->SetSolver(3);
+    ExpectError(f, "Solver 3", { "Solver", "got 3" });
+    f.Filter->SetSolver(vtkSoftBodyFilter::JACOBI);
+    ExpectSuccess(f, "valid enumerations again");
+  }
+
   return sbtest::Result("filter.bad_inputs");
 }
