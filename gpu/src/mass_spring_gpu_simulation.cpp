@@ -1,4 +1,5 @@
 #include "softbody/gpu/mass_spring_gpu_simulation.h"
+#include "softbody/mesh/volume_ratios.h"
 
 #include "egl_context.h"
 #include "gl_thread.h"
@@ -144,15 +145,8 @@ double MassSpringGpuSimulation::totalMass() const
 std::vector<double> MassSpringGpuSimulation::tetVolumeRatios() const
 {
   // Only for output frames: computed on the host from the downloaded positions.
-  const std::vector<Vec3>& x = state().positions;
   const MassSpringSetup& s = Body->setup;
-  std::vector<double> ratios(s.topology.tets.size());
-  for (std::size_t t = 0; t < ratios.size(); ++t)
-  {
-    const Tet& tet = s.topology.tets[t];
-    ratios[t] = signedTetVolume(x[tet[0]], x[tet[1]], x[tet[2]], x[tet[3]]) / s.constants.restVolume[t];
-  }
-  return ratios;
+  return softbody::tetVolumeRatios(s.topology.tets, s.constants.restVolume, state().positions);
 }
 
 double MassSpringGpuSimulation::stepSize() const

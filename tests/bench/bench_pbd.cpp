@@ -12,6 +12,7 @@
 //
 // Usage: bench_pbd [--smoke] [--data <shared data dir>] [--csv <prefix>]
 #include "bench_meshes.h"
+#include "scenes/stretched_cloth.h"
 #include "bench_options.h"
 
 #include "softbody/pbd/cloth.h"
@@ -76,16 +77,8 @@ void convergence(const bench::Options& options, int maxThreads)
       settings.solver = c.solver;
       settings.relaxation = c.relaxation;
       settings.iterations = iterations;
-      settings.gravity.setZero();
-      PbdSimulation sim(makeCloth(spec), settings);
-      DynamicState stretched = sim.state();
-      for (Vec3& p : stretched.positions)
-      {
-        p *= 16.0;
-      }
-      sim.restoreState(stretched);
-      sim.setRecordResidualsEveryStep(true);
-      sim.step(1.0 / 60.0);
+      const std::unique_ptr<PbdSimulation> stretched = scenes::stretchedClothAfterOneStep(spec, settings);
+      const PbdSimulation& sim = *stretched;
       const std::vector<double>& r = sim.convergence().residualHistory;
       const double perIteration = solveSeconds(sim) / iterations;
       for (std::size_t k = 0; k < r.size(); ++k)

@@ -1,6 +1,7 @@
 // The PBD/XPBD step as a whole: free fall, momentum, pins, floor response, the solver
 // comparisons of the PBD thesis, determinism across thread counts, breaking and plasticity.
 #include "softbody/pbd/cloth.h"
+#include "scenes/stretched_cloth.h"
 #include "softbody/common/errors.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
@@ -171,17 +172,7 @@ std::vector<double> stretchedClothResiduals(PbdSolver solver, double relaxation,
   settings.solver = solver;
   settings.relaxation = relaxation;
   settings.iterations = iterations;
-  settings.gravity.setZero();
-  PbdSimulation sim(makeCloth(spec), settings);
-  DynamicState stretched = sim.state();
-  for (Vec3& p : stretched.positions)
-  {
-    p *= 16.0;
-  }
-  sim.restoreState(stretched);
-  sim.setRecordResidualsEveryStep(true);
-  sim.step(1.0 / 60.0);
-  return sim.convergence().residualHistory;
+  return scenes::stretchedClothAfterOneStep(spec, settings)->convergence().residualHistory;
 }
 
 TEST(PbdSimulation, GaussSeidelConvergesFasterPerIterationThanJacobi)

@@ -1,4 +1,5 @@
 #include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/mesh/volume_ratios.h"
 
 #include "softbody/common/errors.h"
 #include "softbody/massspring/floor_contact.h"
@@ -65,14 +66,7 @@ void MassSpringSimulation::restoreState(const DynamicState& snapshot)
 
 std::vector<double> MassSpringSimulation::tetVolumeRatios() const
 {
-  std::vector<double> ratios(Topo.tets.size());
-  const std::vector<Vec3>& x = State.positions;
-  for (std::size_t t = 0; t < Topo.tets.size(); ++t)
-  {
-    const Tet& tet = Topo.tets[t];
-    ratios[t] = signedTetVolume(x[tet[0]], x[tet[1]], x[tet[2]], x[tet[3]]) / Constants.restVolume[t];
-  }
-  return ratios;
+  return softbody::tetVolumeRatios(Topo.tets, Constants.restVolume, State.positions);
 }
 
 void MassSpringSimulation::stepOnce(double h)

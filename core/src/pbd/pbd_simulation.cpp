@@ -1,4 +1,5 @@
 #include "softbody/pbd/pbd_simulation.h"
+#include "softbody/mesh/volume_ratios.h"
 
 #include "softbody/common/errors.h"
 #include "softbody/common/parallel.h"
@@ -299,15 +300,7 @@ AdvanceStatus PbdSimulation::advance(double endTime, const ProgressCallback& pro
 
 std::vector<double> PbdSimulation::tetVolumeRatios() const
 {
-  std::vector<double> ratios(Volumes.size());
-  const std::vector<Vec3>& x = State.positions;
-  for (std::size_t t = 0; t < Volumes.size(); ++t)
-  {
-    const std::size_t s = VolumeSlot.empty() ? t : static_cast<std::size_t>(VolumeSlot[t]);
-    const Tet& k = Volumes.tets[s];
-    ratios[t] = signedTetVolume(x[k[0]], x[k[1]], x[k[2]], x[k[3]]) / Volumes.restVolume[s];
-  }
-  return ratios;
+  return softbody::tetVolumeRatios(Volumes.tets, Volumes.restVolume, State.positions, VolumeSlot);
 }
 
 std::size_t PbdSimulation::brokenLinkCount() const
