@@ -2,8 +2,9 @@
 //
 // A GL context is current on one thread at a time, and inside ParaView an EGL context made
 // current on ParaView's own thread clashes with its GLX context (EGL_BAD_ACCESS, occasional
-// aborts). So every GL call of a GPU simulation runs on its own GlThread: the caller posts a
-// job and waits for it; exceptions thrown by a job come back to the caller.
+// aborts). So every GL call of a GPU simulation runs on a GlThread, the one of the process's
+// shared context (shared_gl_context.h): the caller posts a job and waits for it; exceptions
+// thrown by a job come back to the caller.
 #pragma once
 
 #include <condition_variable>

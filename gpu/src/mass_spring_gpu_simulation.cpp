@@ -1,9 +1,8 @@
 #include "softbody/gpu/mass_spring_gpu_simulation.h"
 #include "softbody/mesh/volume_ratios.h"
 
-#include "egl_context.h"
-#include "gl_thread.h"
 #include "mass_spring_device.h"
+#include "shared_gl_context.h"
 
 #include "softbody/common/errors.h"
 #include "softbody/gpu/gpu_errors.h"
@@ -38,34 +37,27 @@ MassSpringGpuSimulation::MassSpringGpuSimulation(const BodyDescription& body, co
 {
   Body->plan = planMassSpring(Body->setup);
   Body->plan.add(Stage::Transfers);
-  Thread = std::make_unique<GlThread>();
+  Gl = SharedGlContext::acquire(); // throws GpuUnavailableError where no context can be made
   try
   {
-    Thread->run([this] {
-      Context = std::make_unique<HeadlessGlContext>();
+    Gl->run([this] {
       Device = std::make_unique<MassSpringDevice>(Body->setup, Body->plan);
       Device->uploadState(State.positions, State.velocities);
     });
   }
   catch (...)
   {
-    // GL objects die on the thread that owns their context.
-    Thread->run([this] {
-      Device.reset();
-      Context.reset();
-    });
+    Gl->dispose(Device); // GL objects die on the thread that owns their context
     throw;
   }
-  Renderer = Context->renderer();
-  Version = Context->version();
+  Renderer = Gl->renderer();
+  Version = Gl->version();
 }
 
 MassSpringGpuSimulation::~MassSpringGpuSimulation()
 {
-  Thread->run([this] {
-    Device.reset();
-    Context.reset();
-  });
+  Gl->dispose(Device);
+  // Gl goes with the members: the last simulation to go closes the shared context.
 }
 
 const DynamicState& MassSpringGpuSimulation::state() const
@@ -73,7 +65,7 @@ const DynamicState& MassSpringGpuSimulation::state() const
   if (HostStale)
   {
     const auto start = std::chrono::steady_clock::now();
-    Thread->run([this] { Device->downloadState(State.positions, State.velocities); });
+    Gl->run([this] { Device->downloadState(State.positions, State.velocities); });
     HostStale = false;
     TransferSeconds += secondsSince(start);
   }
@@ -89,7 +81,7 @@ void MassSpringGpuSimulation::restoreState(const DynamicState& snapshot)
   }
   const auto start = std::chrono::steady_clock::now();
   State = snapshot;
-  Thread->run([this] { Device->uploadState(State.positions, State.velocities); });
+  Gl->run([this] { Device->uploadState(State.positions, State.velocities); });
   HostStale = false;
   TransferSeconds += secondsSince(start);
 }
@@ -113,7 +105,7 @@ AdvanceStatus MassSpringGpuSimulation::advance(double endTime, const ProgressCal
     // Verlet kicks by the mean of the previous and current step (core: integrateStep).
     const double firstKick = 0.5 * (State.previousStep + h);
     const double laterKick = 0.5 * (h + h);
-    LastProbe = Thread->run([&] {
+    LastProbe = Gl->run([&] {
       for (unsigned long long s = 0; s < count; ++s)
       {
         Device->step(h, s == 0 ? firstKick : laterKick);
@@ -167,7 +159,7 @@ const std::vector<std::string>& MassSpringGpuSimulation::warnings() const
 const StepPlan& MassSpringGpuSimulation::stepPlan() const
 {
   // GPU times arrive through GL queries: read them when asked for, not every step.
-  const std::vector<double> seconds = Thread->run([this] { return Device->stageSeconds(); });
+  const std::vector<double> seconds = Gl->run([this] { return Device->stageSeconds(); });
   for (Stage stage : Body->plan.stages())
   {
     Body->plan.seconds(stage) =

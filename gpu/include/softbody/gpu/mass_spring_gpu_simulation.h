@@ -7,9 +7,9 @@
 // atomics). The state stays on the GPU between steps and is downloaded only when state() is
 // asked for; restoreState() uploads.
 //
-// All GL work runs on a thread owned by the simulation (see gl_thread.h); the public methods
-// post jobs to it and wait. Like the CPU stepper, one simulation is used from one thread at a
-// time.
+// All GL work runs on the process's one GL thread, whose context every GPU simulation shares
+// (see shared_gl_context.h); the public methods post jobs to it and wait. Like the CPU
+// stepper, one simulation is used from one thread at a time.
 #pragma once
 
 #include "softbody/massspring/mass_spring_simulation.h" // BodyDescription, SceneSettings
@@ -22,9 +22,8 @@
 namespace softbody::gpu
 {
 
-class GlThread;
-class HeadlessGlContext;
 class MassSpringDevice;
+class SharedGlContext;
 /// What the divergence check needs, reduced on the GPU.
 struct DivergenceProbe
 {
@@ -71,10 +70,9 @@ private:
   mutable double TransferSeconds = 0.0;
   std::string Renderer;
   std::string Version;
-  // Owned by the GL thread: created, used and destroyed only in jobs run on it.
-  std::unique_ptr<HeadlessGlContext> Context;
+  // The shared GL thread and context; Device is created, used and destroyed only in its jobs.
+  std::shared_ptr<SharedGlContext> Gl;
   std::unique_ptr<MassSpringDevice> Device;
-  std::unique_ptr<GlThread> Thread;
 };
 
 /// The GPU stepper, or null with the reason in `whyNot` when no GPU context is available
