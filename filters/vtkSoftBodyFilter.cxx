@@ -641,17 +641,7 @@ void vtkSoftBodyFilter::PrintSelf(ostream& os, vtkIndent indent)
      << this->P.FloorNormal[2] << "\n";
   os << indent << "PinnedPointsArray: "
      << (this->P.PinnedPointsArray.empty() ? "(none)" : this->P.PinnedPointsArray) << "\n";
-  os << indent << "MaterialMode: " << this->P.MaterialMode << "\n";
-  os << indent << "YoungsModulus: " << this->P.YoungsModulus << "\n";
-  os << indent << "PoissonRatio: " << this->P.PoissonRatio << "\n";
-  os << indent << "Density: " << this->P.Density << "\n";
-  os << indent << "DampingTime: " << this->P.DampingTime << "\n";
-  os << indent << "DistanceStiffness: " << this->P.DistanceStiffness << "\n";
-  os << indent << "DistanceDamping: " << this->P.DistanceDamping << "\n";
-  os << indent << "VolumeStiffness: " << this->P.VolumeStiffness << "\n";
-  os << indent << "VolumeDamping: " << this->P.VolumeDamping << "\n";
-  os << indent << "TotalMass: " << this->P.TotalMass << "\n";
-  os << indent << "MassDistribution: " << this->P.MassDistribution << "\n";
+  vtkSoftBodySettings::PrintMaterial(os, indent, this->P);
   os << indent << "MaxInverseMass: " << this->P.MaxInverseMass << "\n";
   os << indent << "StrainLimit: " << this->P.StrainLimit << "\n";
   os << indent << "StrainLimitIterations: " << this->P.StrainLimitIterations << "\n";

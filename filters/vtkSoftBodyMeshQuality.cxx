@@ -226,17 +226,7 @@ void vtkSoftBodyMeshQuality::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Integrator: " << this->P.Integrator << "\n";
-  os << indent << "MaterialMode: " << this->P.MaterialMode << "\n";
-  os << indent << "YoungsModulus: " << this->P.YoungsModulus << "\n";
-  os << indent << "PoissonRatio: " << this->P.PoissonRatio << "\n";
-  os << indent << "Density: " << this->P.Density << "\n";
-  os << indent << "DampingTime: " << this->P.DampingTime << "\n";
-  os << indent << "DistanceStiffness: " << this->P.DistanceStiffness << "\n";
-  os << indent << "DistanceDamping: " << this->P.DistanceDamping << "\n";
-  os << indent << "VolumeStiffness: " << this->P.VolumeStiffness << "\n";
-  os << indent << "VolumeDamping: " << this->P.VolumeDamping << "\n";
-  os << indent << "TotalMass: " << this->P.TotalMass << "\n";
-  os << indent << "MassDistribution: " << this->P.MassDistribution << "\n";
+  vtkSoftBodySettings::PrintMaterial(os, indent, this->P);
   os << indent << "SliverAngle: " << this->SliverAngle << "\n";
   os << indent << "NumberOfBins: " << this->NumberOfBins << "\n";
   os << indent << "TruncationMassBudget: " << this->TruncationMassBudget << " %\n";

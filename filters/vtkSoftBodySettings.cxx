@@ -228,3 +228,20 @@ std::vector<std::string> vtkSoftBodySettings::Warnings(const vtkSoftBodyFilter::
   }
   return warnings;
 }
+
+//------------------------------------------------------------------------------
+void vtkSoftBodySettings::PrintMaterial(
+  ostream& os, vtkIndent indent, const vtkSoftBodyFilter::Parameters& p)
+{
+  os << indent << "MaterialMode: " << p.MaterialMode << "\n";
+  os << indent << "YoungsModulus: " << p.YoungsModulus << "\n";
+  os << indent << "PoissonRatio: " << p.PoissonRatio << "\n";
+  os << indent << "Density: " << p.Density << "\n";
+  os << indent << "DampingTime: " << p.DampingTime << "\n";
+  os << indent << "DistanceStiffness: " << p.DistanceStiffness << "\n";
+  os << indent << "DistanceDamping: " << p.DistanceDamping << "\n";
+  os << indent << "VolumeStiffness: " << p.VolumeStiffness << "\n";
+  os << indent << "VolumeDamping: " << p.VolumeDamping << "\n";
+  os << indent << "TotalMass: " << p.TotalMass << "\n";
+  os << indent << "MassDistribution: " << p.MassDistribution << "\n";
+}

@@ -11,6 +11,7 @@
 #ifndef vtkSoftBodySettings_h
 #define vtkSoftBodySettings_h
 
+#include "vtkIndent.h"
 #include "vtkSoftBodyFilter.h"
 
 #include "softbody/massspring/mass_spring_settings.h"
@@ -56,6 +57,9 @@ softbody::MaterialSettings Material(const vtkSoftBodyFilter::Parameters& p);
 
 /// The explicit integrator of the Integrator property.
 softbody::Integrator Integrator(int integrator);
+
+/// PrintSelf's lines for the material properties (both filters that have them).
+void PrintMaterial(ostream& os, vtkIndent indent, const vtkSoftBodyFilter::Parameters& p);
 
 /// Warnings about accepted but noteworthy values (e.g. CacheMemoryLimit 0 turns caching off).
 std::vector<std::string> Warnings(const vtkSoftBodyFilter::Parameters& p);

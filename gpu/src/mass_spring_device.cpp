@@ -192,65 +192,50 @@ void MassSpringDevice::computeAccelerations(const StorageBuffer& x, const Storag
   Clock.end();
 }
 
+void MassSpringDevice::runUpdate(const ComputeProgram& program,
+  std::initializer_list<std::pair<const char*, const StorageBuffer*>> extraBuffers,
+  std::initializer_list<std::pair<const char*, double>> stepSizes)
+{
+  program.use();
+  program.bind("Positions", Positions);
+  program.bind("Velocities", Velocities);
+  program.bind("Accelerations", Accelerations);
+  for (const auto& [block, buffer] : extraBuffers)
+  {
+    program.bind(block, *buffer);
+  }
+  for (const auto& [uniform, value] : stepSizes)
+  {
+    program.set(uniform, value);
+  }
+  Clock.begin(static_cast<std::size_t>(Stage::Integrate));
+  program.dispatch(VertexCount);
+  Clock.end();
+}
+
 void MassSpringDevice::integrate(double h, double kick)
 {
-  // The integrators of core's integrators.cpp; force evaluations are timed as "forces".
-  auto timedUpdate = [&](const ComputeProgram& program) {
-    Clock.begin(static_cast<std::size_t>(Stage::Integrate));
-    program.dispatch(VertexCount);
-    Clock.end();
-  };
+  // The integrators of core's explicit_integrators.cpp; force evaluations are timed as
+  // "forces", the update kernels as "integrate".
+  computeAccelerations(Positions, Velocities);
   switch (Scene.integrator)
   {
     case Integrator::Euler:
-    {
-      computeAccelerations(Positions, Velocities);
-      const ComputeProgram& update = Kernels.eulerStep;
-      update.use();
-      update.bind("Positions", Positions);
-      update.bind("Velocities", Velocities);
-      update.bind("Accelerations", Accelerations);
-      update.set("h", h);
-      timedUpdate(update);
+      runUpdate(Kernels.eulerStep, {}, { { "h", h } });
       break;
-    }
     case Integrator::Midpoint:
-    {
-      computeAccelerations(Positions, Velocities);
-      const ComputeProgram& predict = Kernels.midpointPredict;
-      predict.use();
-      predict.bind("Positions", Positions);
-      predict.bind("Velocities", Velocities);
-      predict.bind("Accelerations", Accelerations);
-      predict.bind("MidPositions", MidPositions);
-      predict.bind("MidVelocities", MidVelocities);
-      predict.set("halfH", 0.5 * h);
-      timedUpdate(predict);
+      runUpdate(Kernels.midpointPredict,
+        { { "MidPositions", &MidPositions }, { "MidVelocities", &MidVelocities } },
+        { { "halfH", 0.5 * h } });
       computeAccelerations(MidPositions, MidVelocities);
-      const ComputeProgram& update = Kernels.midpointStep;
-      update.use();
-      update.bind("Positions", Positions);
-      update.bind("Velocities", Velocities);
-      update.bind("MidVelocities", MidVelocities);
-      update.bind("Accelerations", Accelerations);
-      update.set("h", h);
-      timedUpdate(update);
+      runUpdate(Kernels.midpointStep, { { "MidVelocities", &MidVelocities } }, { { "h", h } });
       break;
-    }
     case Integrator::Verlet:
     case Integrator::EulerCromer:
-    {
-      computeAccelerations(Positions, Velocities);
-      const ComputeProgram& update = Kernels.kickDrift;
-      update.use();
-      update.bind("Positions", Positions);
-      update.bind("Velocities", Velocities);
-      update.bind("Accelerations", Accelerations);
-      update.set("kick", Scene.integrator == Integrator::Verlet ? kick : h);
-      update.set("h", h);
-      timedUpdate(update);
+      // Euler-Cromer is the kick-drift with a kick of h; Verlet kicks by the mean step.
+      runUpdate(Kernels.kickDrift, {},
+        { { "kick", Scene.integrator == Integrator::Verlet ? kick : h }, { "h", h } });
       break;
-    }
   }
 }
 

@@ -11,6 +11,8 @@
 #include "softbody/gpu/mass_spring_gpu_simulation.h" // DivergenceProbe
 #include "softbody/massspring/mass_spring_setup.h"
 
+#include <initializer_list>
+#include <utility>
 #include <vector>
 
 namespace softbody::gpu
@@ -39,6 +41,11 @@ private:
   /// Accelerations at the state (x, v) into Accelerations.
   void computeAccelerations(const StorageBuffer& x, const StorageBuffer& v);
   void integrate(double h, double kick);
+  /// One integrator update kernel over the vertices: it reads the state and the accelerations
+  /// (bound here) plus `extraBuffers`, with its step-size uniforms.
+  void runUpdate(const ComputeProgram& program,
+    std::initializer_list<std::pair<const char*, const StorageBuffer*>> extraBuffers,
+    std::initializer_list<std::pair<const char*, double>> stepSizes);
   void limitStrain(double h);
   void resolveFloor();
 
