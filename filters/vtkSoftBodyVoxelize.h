@@ -53,7 +53,8 @@ public:
   /// Stiffness of the diagonal links relative to the axis links (0 = no diagonal links).
   vtkSetClampMacro(DiagonalStiffness, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(DiagonalStiffness, double);
-  /// Density [kg/m^3]: each particle carries the mass of its voxel.
+  /// Density [kg/m^3]: each particle carries the mass of its voxel. Default 1100, as the Soft
+  /// Body filter's Density, so a lattice and a tet mesh of one surface weigh the same.
   vtkSetClampMacro(Density, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Density, double);
 
@@ -68,7 +69,7 @@ protected:
   double Spacing = 0.0;
   int Resolution = 20;
   double DiagonalStiffness = 1.0;
-  double Density = 1000.0;
+  double Density = 1100.0;
   int OutputCells = LINKS;
 
 private:
