@@ -57,6 +57,10 @@ public:
   /// Body filter's Density, so a lattice and a tet mesh of one surface weigh the same.
   vtkSetClampMacro(Density, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Density, double);
+  /// Threads classifying the lattice nodes (0 = one per hardware thread, at most 64). The
+  /// result does not depend on it (tests compare 1 and 2); C++ only, not a ParaView property.
+  vtkSetClampMacro(NumberOfThreads, int, 0, 64);
+  vtkGetMacro(NumberOfThreads, int);
 
 protected:
   vtkSoftBodyVoxelize() = default;
@@ -71,6 +75,7 @@ protected:
   double DiagonalStiffness = 1.0;
   double Density = 1100.0;
   int OutputCells = LINKS;
+  int NumberOfThreads = 0;
 
 private:
   vtkSoftBodyVoxelize(const vtkSoftBodyVoxelize&) = delete;
