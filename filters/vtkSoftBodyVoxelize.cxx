@@ -153,12 +153,12 @@ int vtkSoftBodyVoxelize::RequestData(
   std::vector<vtkSmartPointer<vtkImplicitPolyDataDistance>> distances;
   for (int t = 0; t < std::min(threads, grid.nodes[2]); ++t)
   {
-    auto points = vtkSmartPointer<vtkPoints>::New();
-    points->DeepCopy(triangles->GetPoints());
+    auto corners = vtkSmartPointer<vtkPoints>::New();
+    corners->DeepCopy(triangles->GetPoints());
     auto polys = vtkSmartPointer<vtkCellArray>::New();
     polys->DeepCopy(triangles->GetPolys());
     surfaces.push_back(vtkSmartPointer<vtkPolyData>::New());
-    surfaces.back()->SetPoints(points);
+    surfaces.back()->SetPoints(corners);
     surfaces.back()->SetPolys(polys);
     distances.push_back(vtkSmartPointer<vtkImplicitPolyDataDistance>::New());
     distances.back()->SetInput(surfaces.back());
