@@ -3,9 +3,12 @@
  * @brief   Reads the nodes and tetrahedra of a Gmsh .msh file (ASCII format 2.2 or 4.1).
  *
  * Output: a vtkUnstructuredGrid of VTK_TETRA cells in file order, corners as stored (a file's
- * inverted tets stay inverted, so that a quality check can report them). Field data
- * "SkippedElements" counts elements that are not 4-node tets. Missing, truncated or garbled
- * files end in vtkErrorMacro with the file and line, and an empty output; never a crash.
+ * inverted tets stay inverted, so that a quality check can report them). Linear hexahedra,
+ * prisms and pyramids are split into 6, 3 and 2 tets (conforming), with a vtkWarningMacro per
+ * type counting them; higher-order volume cells are refused. Field data "SkippedElements"
+ * counts the elements that are not volume cells. Missing, truncated or garbled files end in
+ * vtkErrorMacro with the file and line (excerpts escaped and shortened), and an empty output;
+ * never a crash.
  *
  * The parsing is softbody::readGmshMesh (core library); this class only adapts it to VTK.
  */

@@ -87,8 +87,9 @@ std::string vtkSoftBodyInputConversion::ConvertTets(
       msg << separator << typeCount.second << " " << (name ? name : "unknown cell type");
       separator = ", ";
     }
-    msg << "). The soft body simulates tetrahedral meshes only: apply ParaView's "
-           "Tetrahedralize filter (or Delaunay 3D to a point cloud) first.";
+    msg << "). The soft body simulates tetrahedral meshes only: mesh the body's surface with "
+           "Soft Body's Tetrahedralize Surface (TetGen) filter (Extract Surface first), or split "
+           "the cells with ParaView's Tetrahedralize filter.";
     return msg.str();
   }
 
@@ -261,7 +262,8 @@ std::string vtkSoftBodyInputConversion::ConvertParticles(vtkUnstructuredGrid* in
       msg << separator << typeCount.second << " " << (name ? name : "unknown 3D cells");
       separator = ", ";
     }
-    msg << ". Apply ParaView's Tetrahedralize filter first.";
+    msg << ". Mesh the body's surface with Soft Body's Tetrahedralize Surface (TetGen) filter "
+           "(Extract Surface first), or split the cells with ParaView's Tetrahedralize filter.";
     return msg.str();
   }
   for (const auto& link : body.links)

@@ -7,6 +7,7 @@
 #include "vtkFloatArray.h"
 #include "vtkGenericCell.h"
 #include "vtkNew.h"
+#include "vtkObject.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -16,6 +17,7 @@
 
 #include "softbody/common/errors.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -24,6 +26,37 @@ void vtkSoftBodySkin::Clear()
 {
   this->Skin = softbody::Skin();
   this->Body = this->Surface = nullptr;
+  this->Warning.clear();
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodySkin::FarSurfaceWarning(
+  vtkUnstructuredGrid* body, const std::vector<softbody::Vec3>& vertices)
+{
+  // Distance of the farthest vertex from the body's bounding box: 0 for a surface around or
+  // inside the body, about a lattice spacing for a voxelized body's own surface, meters for a
+  // surface placed elsewhere or in other units (mm against m).
+  double b[6];
+  body->GetBounds(b);
+  const softbody::Vec3 low(b[0], b[2], b[4]), high(b[1], b[3], b[5]);
+  const double size = (high - low).norm();
+  double farthest = 0.0;
+  for (const softbody::Vec3& v : vertices)
+  {
+    const softbody::Vec3 outside = (low - v).cwiseMax(v - high).cwiseMax(0.0);
+    farthest = std::max(farthest, outside.norm());
+  }
+  if (!(farthest > kFarFraction * size))
+  {
+    return {};
+  }
+  std::ostringstream msg;
+  msg.precision(3);
+  msg << "The Surface input lies up to " << farthest
+      << " m outside the body's bounding box, whose diagonal (the body's size) is " << size
+      << " m: it was bound to the nearest cells anyway and moves with them. If it is meant to "
+         "be this body's surface, place it on the body (same position and units).";
+  return msg.str();
 }
 
 //------------------------------------------------------------------------------
@@ -44,6 +77,7 @@ std::string vtkSoftBodySkin::Bind(vtkUnstructuredGrid* body, vtkPolyData* surfac
   {
     surface->GetPoint(i, vertices[static_cast<std::size_t>(i)].data());
   }
+  this->Warning = FarSurfaceWarning(body, vertices);
   std::string error;
   try
   {
@@ -56,6 +90,11 @@ std::string vtkSoftBodySkin::Bind(vtkUnstructuredGrid* body, vtkPolyData* surfac
   }
   if (error.empty())
   {
+    if (!this->Warning.empty())
+    {
+      // Once per binding: Bind returns early while body and surface are unchanged.
+      vtkGenericWarningMacro(<< this->Warning);
+    }
     this->Body = body;
     this->Surface = surface;
     this->BodyTime = body->GetMTime();

@@ -35,11 +35,23 @@ public:
 
   std::size_t GetOutsideCount() const { return this->Skin.outsideCount; }
 
+  /// Set by the last Bind that bound anew: a Surface that lies far from the body (more than
+  /// kFarFraction of the body's bounding-box diagonal outside that box, e.g. misplaced or in
+  /// other units) is bound to the nearest cells all the same, and this says so, quoting the
+  /// distance and the body's size; empty otherwise. Bind also emits it as a VTK warning.
+  const std::string& GetWarning() const { return this->Warning; }
+
+  /// See GetWarning.
+  static constexpr double kFarFraction = 0.25;
+
 private:
+  static std::string FarSurfaceWarning(
+    vtkUnstructuredGrid* body, const std::vector<softbody::Vec3>& vertices);
   std::string BindToLattice(vtkUnstructuredGrid* body, const std::vector<softbody::Vec3>& vertices);
   std::string BindToTets(vtkUnstructuredGrid* body, const std::vector<softbody::Vec3>& vertices);
 
   softbody::Skin Skin;
+  std::string Warning;
   const void* Body = nullptr; // identities only, never dereferenced
   const void* Surface = nullptr;
   vtkMTimeType BodyTime = 0;

@@ -3,6 +3,8 @@
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCleanPolyData.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataObject.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
 #include "vtkTriangleFilter.h"
@@ -48,4 +50,20 @@ void vtkSoftBodySurfaceInput::ToCore(vtkPolyData* triangles, std::vector<softbod
         static_cast<std::int32_t>(ids[2]) });
     }
   }
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodySurfaceInput::SkinSurfaceError(vtkDataObject* surface)
+{
+  if (!surface || vtkPolyData::SafeDownCast(surface))
+  {
+    return {};
+  }
+  std::string remedy = "apply Extract Surface to it first";
+  if (vtkCompositeDataSet::SafeDownCast(surface))
+  {
+    remedy = "apply Merge Blocks, then Extract Surface, to it first";
+  }
+  return std::string("The Surface input must be a polygonal surface (vtkPolyData); it is a ") +
+    surface->GetClassName() + ". To skin it onto the body, " + remedy + ".";
 }

@@ -88,6 +88,11 @@ int vtkSoftBodyTetMeshOutput::ReadFile(vtkAlgorithm* reader, const std::string& 
     vtkErrorWithObjectMacro(reader, << "Cannot read '" << fileName << "': " << e.what());
     return 0;
   }
+  // What the reader changed (e.g. hexahedra split into tets): said, not done silently.
+  for (const std::string& warning : info.warnings)
+  {
+    vtkWarningWithObjectMacro(reader, << warning);
+  }
   Fill(mesh, output);
   vtkNew<vtkIdTypeArray> skipped;
   skipped->SetName("SkippedElements");

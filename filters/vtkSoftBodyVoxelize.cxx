@@ -2,6 +2,7 @@
 
 #include "vtkSoftBodySurfaceInput.h"
 
+#include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCellType.h"
 #include "vtkDoubleArray.h"
@@ -133,16 +134,34 @@ int vtkSoftBodyVoxelize::RequestData(
       }
     }
   };
-  // One distance object per thread (each owns its copy of the surface and its cell locator,
-  // which is not safe to share), made here on the calling thread. Threads take whole slices,
-  // so no two write the same flag; slices go in blocks so progress and abort are handled
-  // between blocks, on this thread, as VTK requires.
-  const int threads = static_cast<int>(std::max(1u, std::min(std::thread::hardware_concurrency(), 64u)));
+  // One distance object per thread, made here on the calling thread, each on a private copy
+  // of the surface's geometry (points and triangles, no attribute arrays). They used to share
+  // the cleaned surface, and the flags then changed from run to run with 2 or more threads
+  // (1,604 to 1,613 particles on bunny_10k.obj; always the same with 1 thread): VTK 9.1's
+  // vtkImplicitPolyDataDistance::SetInput keeps a triangle-filtered polydata that still shares
+  // the caller's vtkPoints and point data, and queries on shared VTK data objects are not
+  // thread-safe (const-looking calls refresh internal caches). A shared object flipped a node's
+  // inside/outside sign now and then, and the distance-based skipping below copies a flag to
+  // the nodes it skips. Private copies cost one surface per thread and make the flags
+  // independent of the thread count. Threads take whole slices, so no two write the same
+  // flag; slices go in blocks so progress and abort are handled between blocks, on this
+  // thread, as VTK requires.
+  const int threads = this->NumberOfThreads > 0
+    ? this->NumberOfThreads
+    : static_cast<int>(std::max(1u, std::min(std::thread::hardware_concurrency(), 64u)));
+  std::vector<vtkSmartPointer<vtkPolyData>> surfaces; // kept alive while the distances run
   std::vector<vtkSmartPointer<vtkImplicitPolyDataDistance>> distances;
   for (int t = 0; t < std::min(threads, grid.nodes[2]); ++t)
   {
+    auto corners = vtkSmartPointer<vtkPoints>::New();
+    corners->DeepCopy(triangles->GetPoints());
+    auto polys = vtkSmartPointer<vtkCellArray>::New();
+    polys->DeepCopy(triangles->GetPolys());
+    surfaces.push_back(vtkSmartPointer<vtkPolyData>::New());
+    surfaces.back()->SetPoints(corners);
+    surfaces.back()->SetPolys(polys);
     distances.push_back(vtkSmartPointer<vtkImplicitPolyDataDistance>::New());
-    distances.back()->SetInput(triangles);
+    distances.back()->SetInput(surfaces.back());
   }
   const int workers = static_cast<int>(distances.size());
   const int block = std::max(workers, grid.nodes[2] / 20);
@@ -313,4 +332,5 @@ void vtkSoftBodyVoxelize::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DiagonalStiffness: " << this->DiagonalStiffness << "\n";
   os << indent << "Density: " << this->Density << "\n";
   os << indent << "OutputCells: " << this->OutputCells << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

@@ -53,9 +53,14 @@ public:
   /// Stiffness of the diagonal links relative to the axis links (0 = no diagonal links).
   vtkSetClampMacro(DiagonalStiffness, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(DiagonalStiffness, double);
-  /// Density [kg/m^3]: each particle carries the mass of its voxel.
+  /// Density [kg/m^3]: each particle carries the mass of its voxel. Default 1100, as the Soft
+  /// Body filter's Density, so a lattice and a tet mesh of one surface weigh the same.
   vtkSetClampMacro(Density, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Density, double);
+  /// Threads classifying the lattice nodes (0 = one per hardware thread, at most 64). The
+  /// result does not depend on it (tests compare 1 and 2); C++ only, not a ParaView property.
+  vtkSetClampMacro(NumberOfThreads, int, 0, 64);
+  vtkGetMacro(NumberOfThreads, int);
 
 protected:
   vtkSoftBodyVoxelize() = default;
@@ -68,8 +73,9 @@ protected:
   double Spacing = 0.0;
   int Resolution = 20;
   double DiagonalStiffness = 1.0;
-  double Density = 1000.0;
+  double Density = 1100.0;
   int OutputCells = LINKS;
+  int NumberOfThreads = 0;
 
 private:
   vtkSoftBodyVoxelize(const vtkSoftBodyVoxelize&) = delete;

@@ -1,10 +1,12 @@
 // Tet volume gradients and the connectivity derived from tets.
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/mesh/topology.h"
+#include "softbody/common/errors.h"
 
 #include <gtest/gtest.h>
 
 #include <set>
+#include <sstream>
 
 using namespace softbody;
 
@@ -94,4 +96,77 @@ TEST(TetMesh, InspectionCountsInvertedDegenerateAndUnused)
   EXPECT_EQ(report.degenerateTets, 1u);
   EXPECT_EQ(report.firstDegenerateTet, std::ptrdiff_t(mesh.tets.size() - 1));
   EXPECT_EQ(report.unusedPoints, 1u);
+}
+
+// Slivers: four well-spread points nearly in a plane. Two diagonals of a unit square, one
+// lifted by h: its volume (h / 6) is far above the degenerate threshold, but its smallest
+// dihedral angle is about h radians, and its volume forces would be unbounded.
+TEST(TetMesh, SliversBelowTheMinimumDihedralAngleAreRefusedWithTheWorstAngle)
+{
+  TetMesh mesh = makeTetBox(1, 1, 1, 1.0);
+  const double regular = minDihedralAngleDegrees(
+    Vec3(1, 1, 1), Vec3(1, -1, -1), Vec3(-1, 1, -1), Vec3(-1, -1, 1));
+  EXPECT_NEAR(regular, 70.528779, 1e-5);
+  const auto first = static_cast<std::int32_t>(mesh.points.size());
+  const double h = 1e-5;
+  for (const Vec3& p : { Vec3(3, 0, 0), Vec3(4, 1, 0), Vec3(4, 0, h), Vec3(3, 1, h) })
+  {
+    mesh.points.push_back(p);
+  }
+  mesh.tets.push_back({ first, first + 1, first + 2, first + 3 });
+  const Tet& sliver = mesh.tets.back();
+  if (signedTetVolume(mesh.points[sliver[0]], mesh.points[sliver[1]], mesh.points[sliver[2]],
+        mesh.points[sliver[3]]) < 0.0)
+  {
+    std::swap(mesh.tets.back()[2], mesh.tets.back()[3]);
+  }
+  const double worst = minDihedralAngleDegrees(mesh.points[sliver[0]], mesh.points[sliver[1]],
+    mesh.points[sliver[2]], mesh.points[sliver[3]]);
+  EXPECT_LT(worst, kMinDihedralDegrees);
+  EXPECT_GT(worst, 0.0);
+
+  const TetMeshReport report = inspectTetMesh(mesh);
+  EXPECT_EQ(report.degenerateTets, 0u);
+  EXPECT_EQ(report.sliverTets, 1u);
+  EXPECT_EQ(report.worstSliverTet, std::ptrdiff_t(mesh.tets.size() - 1));
+  EXPECT_DOUBLE_EQ(report.minDihedralDegrees, worst);
+
+  std::vector<std::string> warnings;
+  std::string message;
+  try
+  {
+    prepareTetMesh(mesh, InvertedTetPolicy::Refuse, warnings);
+  }
+  catch (const InvalidInputError& e)
+  {
+    message = e.what();
+  }
+  std::ostringstream angle;
+  angle << worst;
+  EXPECT_NE(message.find("1 of the 7 tetrahedra are slivers"), std::string::npos) << message;
+  EXPECT_NE(message.find("worst is " + angle.str() + " degrees, cell 6"), std::string::npos) << message;
+  EXPECT_NE(message.find("Tetrahedralize Surface (TetGen)"), std::string::npos) << message;
+
+  // A stated threshold below the sliver's angle lets it through; the box alone always passes.
+  EXPECT_EQ(inspectTetMesh(mesh, kDegenerateRelativeVolume, 0.5 * worst).sliverTets, 0u);
+  mesh.tets.pop_back();
+  EXPECT_NO_THROW(prepareTetMesh(mesh, InvertedTetPolicy::Refuse, warnings));
+}
+
+TEST(TetMesh, DegenerateMessageNamesTheRemeshingFilter)
+{
+  TetMesh mesh = makeTetBox(2, 1, 1, 1.0);
+  mesh.tets.push_back({ 0, 1, 2, mesh.tets[3][3] }); // points 0, 1, 2 lie on one line
+  std::vector<std::string> warnings;
+  std::string message;
+  try
+  {
+    prepareTetMesh(mesh, InvertedTetPolicy::Reorient, warnings);
+  }
+  catch (const InvalidInputError& e)
+  {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("degenerate"), std::string::npos) << message;
+  EXPECT_NE(message.find("Tetrahedralize Surface (TetGen)"), std::string::npos) << message;
 }

@@ -10,7 +10,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <map>
+#include <numeric>
 #include <fstream>
+#include <algorithm>
 #include <random>
 #include <sstream>
 
@@ -330,7 +333,197 @@ TEST(SharedMeshes, LoadWithPublishedCounts)
     EXPECT_EQ(m.points.size(), c.points) << c.file;
     EXPECT_EQ(m.tets.size(), c.tets) << c.file;
     EXPECT_EQ(info.format, c.format) << c.file;
-    std::printf("%s: %zu points, %zu tets, %zu other elements skipped\n", c.file,
-      m.points.size(), m.tets.size(), info.skippedElements);
+    // Every public mesh passes the simulation's validation, sliver threshold included.
+    const TetMeshReport report = inspectTetMesh(m);
+    std::vector<std::string> warnings;
+    EXPECT_NO_THROW(prepareTetMesh(m, InvertedTetPolicy::Reorient, warnings)) << c.file;
+    EXPECT_EQ(report.sliverTets, 0u) << c.file;
+    std::printf("%s: %zu points, %zu tets, %zu other elements skipped, min dihedral %.3g deg\n",
+      c.file, m.points.size(), m.tets.size(), info.skippedElements, report.minDihedralDegrees);
   }
+}
+
+// Hexahedra, prisms and pyramids are split into tets, conformingly, and the split is said.
+namespace
+{
+struct VolumeCell
+{
+  int type;
+  std::vector<int> nodes; // indices into the point list, in Gmsh's node order
+};
+
+/// Gmsh 2.2 (or 4.1, one entity block per cell) text for points and volume cells, the node
+/// tags being `tagOf[i]` for point i and the nodes listed in the order of `order`.
+std::string mshCells(const std::vector<Vec3>& points, const std::vector<VolumeCell>& cells,
+  const std::vector<int>& tagOf, const std::vector<int>& order, bool version4)
+{
+  std::ostringstream s;
+  s.precision(17);
+  const std::size_t n = points.size();
+  if (!version4)
+  {
+    s << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" << n << "\n";
+    for (int i : order)
+      s << tagOf[i] << " " << points[i].x() << " " << points[i].y() << " " << points[i].z() << "\n";
+    s << "$EndNodes\n$Elements\n" << cells.size() << "\n";
+    for (std::size_t c = 0; c < cells.size(); ++c)
+    {
+      s << c + 1 << " " << cells[c].type << " 2 1 1";
+      for (int v : cells[c].nodes)
+        s << " " << tagOf[v];
+      s << "\n";
+    }
+    s << "$EndElements\n";
+    return s.str();
+  }
+  s << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 " << n << " 1 " << 10 * n << "\n3 1 0 " << n << "\n";
+  for (int i : order)
+    s << tagOf[i] << "\n";
+  for (int i : order)
+    s << points[i].x() << " " << points[i].y() << " " << points[i].z() << "\n";
+  s << "$EndNodes\n$Elements\n" << cells.size() << " " << cells.size() << " 1 " << cells.size() << "\n";
+  for (std::size_t c = 0; c < cells.size(); ++c)
+  {
+    s << "3 1 " << cells[c].type << " 1\n" << c + 1;
+    for (int v : cells[c].nodes)
+      s << " " << tagOf[v];
+    s << "\n";
+  }
+  s << "$EndElements\n";
+  return s.str();
+}
+
+/// Faces of the tets seen once: the boundary, when the split is conforming.
+std::size_t boundaryTriangles(const TetMesh& m)
+{
+  std::map<std::array<std::int32_t, 3>, int> count;
+  for (const Tet& t : m.tets)
+  {
+    for (int skip = 0; skip < 4; ++skip)
+    {
+      std::array<std::int32_t, 3> f{};
+      int k = 0;
+      for (int c = 0; c < 4; ++c)
+        if (c != skip)
+          f[static_cast<std::size_t>(k++)] = t[c];
+      std::sort(f.begin(), f.end());
+      ++count[f];
+    }
+  }
+  std::size_t once = 0;
+  for (const auto& [face, n] : count)
+  {
+    EXPECT_LE(n, 2) << "a face shared by more than two tets";
+    once += n == 1;
+  }
+  return once;
+}
+} // namespace
+
+TEST_F(MeshFiles, GmshHexahedraPrismsAndPyramidsAreSplitConformingly)
+{
+  // A unit cube (hexahedron), a prism on its x = 1 face, a pyramid on its top face, and a
+  // second cube beside it at y in [1, 2]: every kind of shared quadrangle face.
+  std::vector<Vec3> p = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(0, 0, 1),
+    Vec3(1, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1), Vec3(2, 0, 0), Vec3(2, 0, 1), Vec3(0.5, 0.5, 2),
+    Vec3(0, 2, 0), Vec3(1, 2, 0), Vec3(1, 2, 1), Vec3(0, 2, 1) };
+  const std::vector<VolumeCell> cells = { { 5, { 0, 1, 2, 3, 4, 5, 6, 7 } },
+    { 6, { 1, 8, 2, 5, 9, 6 } }, { 7, { 4, 5, 6, 7, 10 } },
+    { 5, { 3, 2, 12, 11, 7, 6, 13, 14 } } };
+  const double volume = 1.0 + 0.5 + 1.0 / 3.0 + 1.0;
+  // Boundary quadrangles (2 triangles each) and triangles: cube 1 keeps its bottom, front and
+  // left faces; the prism its 2 triangles and 2 quadrangles; the pyramid its 4 triangles;
+  // cube 2 all but its shared face.
+  const std::size_t boundary = 3 * 2 + (2 + 2 * 2) + 4 + 5 * 2;
+
+  std::mt19937 rng(7);
+  std::vector<int> tagOf(p.size()), order(p.size());
+  for (int trial = 0; trial < 60; ++trial)
+  {
+    // Tags and file order shuffled: the lowest node of each face moves around.
+    std::iota(tagOf.begin(), tagOf.end(), 1);
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(tagOf.begin(), tagOf.end(), rng);
+    std::shuffle(order.begin(), order.end(), rng);
+    const bool version4 = trial % 2 == 1;
+    MeshFileInfo info;
+    const TetMesh m = readGmshMesh(write("cells.msh", mshCells(p, cells, tagOf, order, version4)), &info);
+    ASSERT_EQ(m.tets.size(), 6u + 3u + 2u + 6u);
+    double sum = 0.0;
+    for (const Tet& t : m.tets)
+    {
+      const double v = signedTetVolume(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]);
+      EXPECT_GT(v, 1e-3) << "trial " << trial;
+      sum += v;
+    }
+    EXPECT_NEAR(sum, volume, 1e-12);
+    EXPECT_EQ(boundaryTriangles(m), boundary) << "trial " << trial << ": not conforming";
+    EXPECT_EQ(info.convertedElements, 4u);
+    ASSERT_EQ(info.warnings.size(), 3u);
+    EXPECT_NE(info.warnings[0].find("split 2 hexahedra (Gmsh element type 5) into 12 tetrahedra"),
+      std::string::npos) << info.warnings[0];
+    EXPECT_NE(info.warnings[1].find("split 1 prism (Gmsh element type 6) into 3 tetrahedra"),
+      std::string::npos) << info.warnings[1];
+    EXPECT_NE(info.warnings[2].find("split 1 pyramid (Gmsh element type 7) into 2 tetrahedra"),
+      std::string::npos) << info.warnings[2];
+    std::vector<std::string> warnings;
+    EXPECT_NO_THROW(prepareTetMesh(m, InvertedTetPolicy::Refuse, warnings));
+    EXPECT_TRUE(warnings.empty()) << warnings.front(); // no point left outside every tet
+  }
+}
+
+TEST_F(MeshFiles, GmshHigherOrderVolumeCellsAreRefusedWithTheirCount)
+{
+  std::vector<Vec3> p(10, Vec3::Zero());
+  for (int i = 0; i < 10; ++i)
+    p[static_cast<std::size_t>(i)] = Vec3(i, i * i, i * i * i);
+  std::vector<int> tagOf(10), order(10);
+  std::iota(tagOf.begin(), tagOf.end(), 1);
+  std::iota(order.begin(), order.end(), 0);
+  const std::vector<VolumeCell> cells = { { 11, { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9 } },
+    { 11, { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9 } }, { 4, { 0, 1, 2, 3 } } };
+  const std::string msg =
+    messageOf([&] { readGmshMesh(write("tet10.msh", mshCells(p, cells, tagOf, order, false))); });
+  EXPECT_NE(msg.find("2 volume elements of second or higher order (2 10-node tetrahedra (type 11))"),
+    std::string::npos) << msg;
+  EXPECT_NE(msg.find("Set order 1"), std::string::npos) << msg;
+}
+
+TEST(GmshMessages, BinaryGarbageIsEscapedAndShortened)
+{
+  std::string garbage = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 \x01\x7f\xff\x1b[2J";
+  for (int i = 0; i < 500; ++i)
+    garbage += static_cast<char>((i * 37) % 256 == '\n' ? 'x' : (i * 37) % 256);
+  garbage += "\n$EndNodes\n";
+  std::istringstream in(garbage);
+  const std::string msg = messageOf([&] { readGmshMesh(in, "garbage.msh"); });
+  ASSERT_FALSE(msg.empty());
+  for (const char c : msg)
+  {
+    const auto byte = static_cast<unsigned char>(c);
+    EXPECT_TRUE(byte >= 0x20 && byte < 0x7f) << "raw byte " << int(byte) << " in: " << msg;
+  }
+  EXPECT_NE(msg.find("\\x01\\x7F\\xFF\\x1B[2J"), std::string::npos) << msg;
+  EXPECT_LT(msg.size(), 200u) << msg;
+  EXPECT_EQ(printableExcerpt("a\tb\x80"), "a\\tb\\x80");
+  EXPECT_EQ(printableExcerpt(std::string(100, 'z')), std::string(60, 'z') + "...");
+}
+
+TEST_F(MeshFiles, TetGenReportIsInTheMessageNotOnStdout)
+{
+  // Passes the header checks, fails in TetGen's own loader (point 2 has no y coordinate).
+  write("short.node", "3 3 0 0\n1 0 0 0\n2 1\n3 0 1 0\n");
+  write("short.ele", "1 4 0\n1 1 2 3 1\n");
+  std::fflush(stdout);
+  std::FILE* captured = std::tmpfile();
+  const int saved = ::dup(1);
+  ::dup2(::fileno(captured), 1);
+  const std::string msg = messageOf([&] { readTetGenMesh((dir / "short.node").string()); });
+  std::fflush(stdout);
+  ::dup2(saved, 1);
+  ::close(saved);
+  const long printed = std::ftell(captured);
+  std::fclose(captured);
+  EXPECT_EQ(printed, 0L) << "TetGen wrote to stdout";
+  EXPECT_NE(msg.find("TetGen said: 'Error:  Point 2 has no y coordinate.'"), std::string::npos) << msg;
 }

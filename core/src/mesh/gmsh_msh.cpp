@@ -1,4 +1,5 @@
-// Gmsh .msh ASCII reader (formats 2.x and 4.1): nodes and 4-node tetrahedra only.
+// Gmsh .msh ASCII reader (formats 2.x and 4.1): nodes, 4-node tetrahedra, and 8-node hexahedra,
+// 6-node prisms and 5-node pyramids split into tetrahedra.
 //
 // Why our own reader rather than the Gmsh API (libgmsh-dev): the API is one global,
 // non-thread-safe session (gmsh::initialize/open/finalize) that would be shared with anything
@@ -14,9 +15,14 @@
 
 #include "softbody/common/errors.h"
 
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <map>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -24,6 +30,104 @@ namespace softbody
 {
 namespace
 {
+
+/// A linear volume cell other than the tet, in Gmsh's node order, with its faces listed
+/// counter-clockwise seen from outside (worked out from Gmsh's reference elements).
+struct CellShape
+{
+  int type;          ///< Gmsh element type
+  const char* name;  ///< plural, for messages
+  const char* one;   ///< singular
+  int nodes;
+  int tetsPerCell;   ///< what the split below makes
+  std::vector<std::vector<int>> faces;
+};
+
+const std::vector<CellShape>& splitShapes()
+{
+  static const std::vector<CellShape> shapes = {
+    { 5, "hexahedra", "hexahedron", 8, 6,
+      { { 0, 3, 2, 1 }, { 4, 5, 6, 7 }, { 0, 1, 5, 4 }, { 1, 2, 6, 5 }, { 2, 3, 7, 6 },
+        { 3, 0, 4, 7 } } },
+    { 6, "prisms", "prism", 6, 3, { { 0, 2, 1 }, { 3, 4, 5 }, { 0, 1, 4, 3 }, { 0, 3, 5, 2 }, { 1, 2, 5, 4 } } },
+    { 7, "pyramids", "pyramid", 5, 2, { { 0, 3, 2, 1 }, { 0, 1, 4 }, { 1, 2, 4 }, { 2, 3, 4 }, { 3, 0, 4 } } },
+  };
+  return shapes;
+}
+
+const CellShape* splitShapeOf(long long type)
+{
+  for (const CellShape& shape : splitShapes())
+  {
+    if (shape.type == type)
+    {
+      return &shape;
+    }
+  }
+  return nullptr;
+}
+
+/// Volume cells of order 2 and higher (tetrahedra, hexahedra, prisms, pyramids): refused, since
+/// dropping their edge and face nodes would leave points in no cell. Name, or nullptr.
+const char* higherOrderVolumeName(long long type)
+{
+  switch (type)
+  {
+    case 11: return "10-node tetrahedra";
+    case 12: return "27-node hexahedra";
+    case 13: return "18-node prisms";
+    case 14: return "14-node pyramids";
+    case 17: return "20-node hexahedra";
+    case 18: return "15-node prisms";
+    case 19: return "13-node pyramids";
+    case 29: return "20-node tetrahedra";
+    case 30: return "35-node tetrahedra";
+    case 31: return "56-node tetrahedra";
+    case 92: return "64-node hexahedra";
+    case 93: return "125-node hexahedra";
+    default: return nullptr;
+  }
+}
+
+/// Splits a convex cell into tets by "pulling" from its lowest-numbered corner v: one tet from
+/// v to each triangle of the faces that do not contain v, a quadrangle face being cut along
+/// the diagonal through its own lowest-numbered corner. The cut of a face depends only on the
+/// face's global node numbers, so neighboring cells cut a shared face alike (conforming), and
+/// the faces that contain v are cut through v, which is their lowest corner too. Hexahedron:
+/// v lies on 3 faces, the other 3 give 6 tets; prism: 1 triangle + 1 quadrangle, 3 tets;
+/// pyramid: 2 tets whichever corner v is. A face listed counter-clockwise from outside and v
+/// inside give a positive signed volume for (v, a, b, c).
+void splitCell(const CellShape& shape, const std::int32_t* corner, std::vector<Tet>& tets)
+{
+  int v = 0;
+  for (int i = 1; i < shape.nodes; ++i)
+  {
+    if (corner[i] < corner[v])
+      v = i;
+  }
+  for (const std::vector<int>& f : shape.faces)
+  {
+    if (std::find(f.begin(), f.end(), v) != f.end())
+    {
+      continue;
+    }
+    if (f.size() == 3)
+    {
+      tets.push_back({ corner[v], corner[f[0]], corner[f[1]], corner[f[2]] });
+      continue;
+    }
+    int low = 0;
+    for (int i = 1; i < 4; ++i)
+    {
+      if (corner[f[i]] < corner[f[low]])
+        low = i;
+    }
+    // Diagonal a-c when the lowest corner is a or c, else b-d; both keep the face's orientation.
+    const int a = f[low % 2], b = f[low % 2 + 1], c = f[low % 2 + 2], d = f[(low % 2 + 3) % 4];
+    tets.push_back({ corner[v], corner[a], corner[b], corner[c] });
+    tets.push_back({ corner[v], corner[a], corner[c], corner[d] });
+  }
+}
 
 class MshParser
 {
@@ -47,6 +151,49 @@ private:
   std::unordered_map<long long, std::int32_t> NodeIndex;
   TetMesh Mesh;
   std::size_t Skipped = 0;
+  std::map<long long, std::size_t> Split;       ///< Gmsh type -> cells split into tets
+  std::map<long long, std::size_t> HigherOrder; ///< Gmsh type -> refused cells
+
+  /// A cell of `type` whose first node is token `firstNodeToken`: a tet is stored, a hexahedron,
+  /// prism or pyramid split, a higher-order volume cell counted for the refusal, anything
+  /// else (points, lines, surfaces) skipped. The line must hold exactly the cell's nodes.
+  void addCell(long long type, std::size_t firstNodeToken)
+  {
+    if (type == 4)
+    {
+      this->checkNodeCount(type, 4, firstNodeToken);
+      this->addTet(firstNodeToken);
+      return;
+    }
+    if (const CellShape* shape = splitShapeOf(type))
+    {
+      this->checkNodeCount(type, shape->nodes, firstNodeToken);
+      std::array<std::int32_t, 8> corner{};
+      for (int c = 0; c < shape->nodes; ++c)
+      {
+        corner[static_cast<std::size_t>(c)] = this->node(firstNodeToken + static_cast<std::size_t>(c));
+      }
+      splitCell(*shape, corner.data(), this->Mesh.tets);
+      ++this->Split[type];
+      return;
+    }
+    if (higherOrderVolumeName(type))
+    {
+      ++this->HigherOrder[type];
+      return;
+    }
+    ++this->Skipped;
+  }
+
+  void checkNodeCount(long long type, int nodes, std::size_t firstNodeToken) const
+  {
+    if (this->Tokens.size() != firstNodeToken + static_cast<std::size_t>(nodes))
+    {
+      this->fail("an element of type " + std::to_string(type) + " needs " + std::to_string(nodes) +
+        " nodes after its " + std::to_string(firstNodeToken) + " leading numbers, the line has " +
+        std::to_string(this->Tokens.size()) + " numbers: '" + printableExcerpt(this->Line) + "'.");
+    }
+  }
 
   [[noreturn]] void fail(const std::string& what) const
   {
@@ -104,7 +251,7 @@ private:
     {
       this->fail(std::string("expected ") + (atLeast ? "at least " : "") + std::to_string(count) +
         " numbers in " + context + ", found " + std::to_string(this->Tokens.size()) + ": '" +
-        this->Line.substr(0, 80) + "'.");
+        printableExcerpt(this->Line) + "'.");
     }
   }
 
@@ -115,7 +262,7 @@ private:
     const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
     if (r.ec != std::errc() || r.ptr != t.data() + t.size())
     {
-      this->fail(std::string("expected an integer ") + what + ", found '" + std::string(t) + "'.");
+      this->fail(std::string("expected an integer ") + what + ", found '" + printableExcerpt(t) + "'.");
     }
     return v;
   }
@@ -138,7 +285,7 @@ private:
     const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
     if (r.ec != std::errc() || r.ptr != t.data() + t.size() || !std::isfinite(v))
     {
-      this->fail("expected a finite coordinate, found '" + std::string(t) + "'.");
+      this->fail("expected a finite coordinate, found '" + printableExcerpt(t) + "'.");
     }
     return v;
   }
@@ -153,18 +300,24 @@ private:
     this->Mesh.points.push_back(p);
   }
 
+  /// The index of the node whose tag is token i.
+  std::int32_t node(std::size_t i) const
+  {
+    const long long tag = this->integer(i, "node tag");
+    const auto it = this->NodeIndex.find(tag);
+    if (it == this->NodeIndex.end())
+    {
+      this->fail("an element names node " + std::to_string(tag) + ", which is not in $Nodes.");
+    }
+    return it->second;
+  }
+
   void addTet(std::size_t firstNodeToken)
   {
     Tet tet;
     for (int c = 0; c < 4; ++c)
     {
-      const long long tag = this->integer(firstNodeToken + c, "node tag");
-      const auto it = this->NodeIndex.find(tag);
-      if (it == this->NodeIndex.end())
-      {
-        this->fail("tetrahedron names node " + std::to_string(tag) + ", which is not in $Nodes.");
-      }
-      tet[c] = it->second;
+      tet[c] = this->node(firstNodeToken + static_cast<std::size_t>(c));
     }
     this->Mesh.tets.push_back(tet);
   }
@@ -174,7 +327,7 @@ private:
     this->require(endTag);
     if (this->Line.rfind(endTag, 0) != 0)
     {
-      this->fail(std::string("expected ") + endTag + ", found '" + this->Line.substr(0, 80) +
+      this->fail(std::string("expected ") + endTag + ", found '" + printableExcerpt(this->Line) +
         "' (a count in the section header does not match its content?).");
     }
   }
@@ -207,7 +360,8 @@ void MshParser::readFormat()
   }
   else
   {
-    this->fail("unsupported .msh format version '" + version + "'; ASCII 2.2 and 4.1 are read.");
+    this->fail("unsupported .msh format version '" + printableExcerpt(version) +
+      "'; ASCII 2.2 and 4.1 are read.");
   }
   this->expectEnd("$EndMeshFormat");
 }
@@ -235,18 +389,8 @@ void MshParser::readElements2()
     this->requireTokens("an element line (tag type ntags ...)", 3, true);
     const long long type = this->integer(1, "element type");
     const std::size_t tags = this->count(2, "number of element tags");
-    if (type != 4)
-    {
-      ++this->Skipped;
-      continue;
-    }
-    if (this->Tokens.size() != 3 + tags + 4)
-    {
-      this->fail("a tetrahedron (type 4) needs " + std::to_string(tags) + " tags and 4 nodes, "
-        "the line has " + std::to_string(this->Tokens.size()) + " numbers.");
-    }
     this->integer(0, "element tag");
-    this->addTet(3 + tags);
+    this->addCell(type, 3 + tags);
   }
   this->expectEnd("$EndElements");
 }
@@ -268,7 +412,7 @@ void MshParser::readNodes4()
     const std::size_t n = this->count(3, "number of nodes in block");
     if (dim < 0 || dim > 3 || (parametric != 0 && parametric != 1))
     {
-      this->fail("invalid node block header '" + this->Line.substr(0, 80) + "'.");
+      this->fail("invalid node block header '" + printableExcerpt(this->Line) + "'.");
     }
     if (this->Mesh.points.size() + n > total)
     {
@@ -318,15 +462,9 @@ void MshParser::readElements4()
     seen += n;
     for (std::size_t i = 0; i < n; ++i)
     {
-      if (type != 4)
-      {
-        this->requireTokens("an element line", 2, true);
-        ++this->Skipped;
-        continue;
-      }
-      this->requireTokens("a tetrahedron line (tag n1 n2 n3 n4)", 5);
+      this->requireTokens("an element line (tag node...)", 2, true);
       this->integer(0, "element tag");
-      this->addTet(1);
+      this->addCell(type, 1);
     }
   }
   if (seen != total)
@@ -350,7 +488,8 @@ void MshParser::skipSection(const std::string& name)
     }
   }
   this->LineNumber = start;
-  this->fail("section " + name + " has no " + endTag + " (truncated file?).");
+  this->fail("section " + printableExcerpt(name) + " has no " + printableExcerpt(endTag) +
+    " (truncated file?).");
 }
 
 TetMesh MshParser::parse(MeshFileInfo* info)
@@ -366,12 +505,12 @@ TetMesh MshParser::parse(MeshFileInfo* info)
     const std::string section(this->Tokens[0]);
     if (section.empty() || section[0] != '$')
     {
-      this->fail("expected a section such as $Nodes, found '" + this->Line.substr(0, 80) +
+      this->fail("expected a section such as $Nodes, found '" + printableExcerpt(this->Line) +
         "' (not a Gmsh .msh file, or garbled).");
     }
     if (!seenFormat && section != "$MeshFormat")
     {
-      this->fail("a .msh file starts with $MeshFormat, found '" + section + "'.");
+      this->fail("a .msh file starts with $MeshFormat, found '" + printableExcerpt(section) + "'.");
     }
     if (section == "$MeshFormat")
     {
@@ -398,7 +537,7 @@ TetMesh MshParser::parse(MeshFileInfo* info)
     }
     else if (section.rfind("$End", 0) == 0)
     {
-      this->fail("unexpected " + section + " outside its section.");
+      this->fail("unexpected " + printableExcerpt(section) + " outside its section.");
     }
     else
     {
@@ -414,20 +553,72 @@ TetMesh MshParser::parse(MeshFileInfo* info)
     this->fail(std::string("no ") + (this->SeenNodes ? "$Elements" : "$Nodes") +
       " section (truncated file?).");
   }
+  if (!this->HigherOrder.empty())
+  {
+    std::size_t total = 0;
+    std::string list;
+    for (const auto& [type, n] : this->HigherOrder)
+    {
+      total += n;
+      list += (list.empty() ? "" : ", ") + std::to_string(n) + " " + higherOrderVolumeName(type) +
+        " (type " + std::to_string(type) + ")";
+    }
+    this->fail("the mesh holds " + std::to_string(total) + " volume elements of second or higher "
+      "order (" + list + "), which are not read: only linear tetrahedra, hexahedra, prisms and "
+      "pyramids are. Save the mesh with element order 1 (Gmsh: Mesh > Set order 1).");
+  }
   if (this->Mesh.tets.empty())
   {
-    this->fail("the mesh holds no tetrahedra (element type 4; " + std::to_string(this->Skipped) +
-      " other elements skipped). Generate a 3-D mesh in Gmsh (Mesh > 3D).");
+    this->fail("the mesh holds no tetrahedra, hexahedra, prisms or pyramids (" +
+      std::to_string(this->Skipped) + " other elements skipped). Generate a 3-D mesh in Gmsh "
+      "(Mesh > 3D).");
   }
   if (info)
   {
     info->format = this->Version4 ? "Gmsh 4.1" : "Gmsh 2.2";
     info->skippedElements = this->Skipped;
+    info->convertedElements = 0;
+    for (const auto& [type, n] : this->Split)
+    {
+      const CellShape& shape = *splitShapeOf(type);
+      info->convertedElements += n;
+      info->warnings.push_back(this->Name + ": split " + std::to_string(n) + " " + (n == 1 ? shape.one : shape.name) +
+        " (Gmsh element type " + std::to_string(type) + ") into " +
+        std::to_string(n * static_cast<std::size_t>(shape.tetsPerCell)) +
+        " tetrahedra (conforming: shared faces are cut alike); the body is simulated as "
+        "tetrahedra.");
+    }
   }
   return std::move(this->Mesh);
 }
 
 } // namespace
+
+std::string printableExcerpt(std::string_view text, std::size_t maxChars)
+{
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i)
+  {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    char piece[8] = { static_cast<char>(byte), '\0' };
+    if (byte == '\t')
+    {
+      std::snprintf(piece, sizeof piece, "\\t");
+    }
+    else if (byte < 0x20 || byte >= 0x7f)
+    {
+      std::snprintf(piece, sizeof piece, "\\x%02X", static_cast<unsigned>(byte));
+    }
+    // The limit counts what is shown, escapes included; "..." says that more followed.
+    if (out.size() + std::char_traits<char>::length(piece) > maxChars)
+    {
+      out += "...";
+      break;
+    }
+    out += piece;
+  }
+  return out;
+}
 
 TetMesh readGmshMesh(std::istream& in, const std::string& name, MeshFileInfo* info)
 {

@@ -35,9 +35,37 @@ double volumeOf(const TetMesh& mesh, const Tet& t)
   return signedTetVolume(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]);
 }
 
+/// Dihedral angle [degrees] at edge (a, b) between the faces (a, b, c) and (a, b, d): the angle
+/// between c and d projected onto the plane normal to the edge. atan2 of |u x v| and u.v stays
+/// accurate near 0 and 180 degrees, where acos of a normalized dot product does not, and that
+/// is where slivers live. (The mass-spring quality report measures the same angle.)
+double dihedralAngleDegrees(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
+  constexpr double kDegreesPerRadian = 57.295779513082320876798;
+  Vec3 e = b - a;
+  const double length = e.norm();
+  if (!(length > 0.0))
+  {
+    return 0.0;
+  }
+  e /= length;
+  const Vec3 u = (c - a) - e * e.dot(c - a);
+  const Vec3 v = (d - a) - e * e.dot(d - a);
+  return std::atan2(u.cross(v).norm(), u.dot(v)) * kDegreesPerRadian;
+}
+
 } // namespace
 
-TetMeshReport inspectTetMesh(const TetMesh& mesh, double degenerateRelativeVolume)
+double minDihedralAngleDegrees(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3)
+{
+  // Edge (i, j) and the two corners opposite it, which span its two faces.
+  return std::min({ dihedralAngleDegrees(p0, p1, p2, p3), dihedralAngleDegrees(p0, p2, p1, p3),
+    dihedralAngleDegrees(p0, p3, p1, p2), dihedralAngleDegrees(p1, p2, p0, p3),
+    dihedralAngleDegrees(p1, p3, p0, p2), dihedralAngleDegrees(p2, p3, p0, p1) });
+}
+
+TetMeshReport inspectTetMesh(
+  const TetMesh& mesh, double degenerateRelativeVolume, double minDihedralDegrees)
 {
   TetMeshReport report;
   for (const Vec3& p : mesh.points)
@@ -76,6 +104,8 @@ TetMeshReport inspectTetMesh(const TetMesh& mesh, double degenerateRelativeVolum
   // Degenerate is relative to the mesh's own scale, so the test is unit-independent.
   const double threshold = degenerateRelativeVolume * report.totalVolume / double(validCount);
   report.minAbsVolume = report.totalVolume;
+  report.minDihedralDegrees = 180.0;
+  bool anyMeasured = false;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
   {
     if (hasBadIndices(mesh.tets[t], mesh.points.size()))
@@ -92,13 +122,31 @@ TetMeshReport inspectTetMesh(const TetMesh& mesh, double degenerateRelativeVolum
         report.firstDegenerateTet = static_cast<std::ptrdiff_t>(t);
       }
     }
-    else if (volumes[t] < 0.0)
+    else
     {
-      if (report.invertedTets++ == 0)
+      if (volumes[t] < 0.0 && report.invertedTets++ == 0)
       {
         report.firstInvertedTet = static_cast<std::ptrdiff_t>(t);
       }
+      // A degenerate tet is not also counted as a sliver: it is refused for its volume first.
+      const Tet& tet = mesh.tets[t];
+      const double angle = minDihedralAngleDegrees(
+        mesh.points[tet[0]], mesh.points[tet[1]], mesh.points[tet[2]], mesh.points[tet[3]]);
+      anyMeasured = true;
+      if (angle < minDihedralDegrees)
+      {
+        ++report.sliverTets;
+        if (report.worstSliverTet < 0 || angle < report.minDihedralDegrees)
+        {
+          report.worstSliverTet = static_cast<std::ptrdiff_t>(t);
+        }
+      }
+      report.minDihedralDegrees = std::min(report.minDihedralDegrees, angle);
     }
+  }
+  if (!anyMeasured)
+  {
+    report.minDihedralDegrees = 0.0;
   }
   return report;
 }
@@ -127,8 +175,22 @@ TetMesh prepareTetMesh(TetMesh mesh, InvertedTetPolicy policy, std::vector<std::
     message << report.degenerateTets << " tetrahedra are degenerate (volume below "
             << kDegenerateRelativeVolume << " of the mean; the first is cell "
             << report.firstDegenerateTet
-            << "). Their volume forces would be unbounded: remesh the body or remove them "
-               "(ParaView's Mesh Quality filter with the Volume measure shows them).";
+            << "). Their volume forces would be unbounded: remesh the body's surface with Soft "
+               "Body's Tetrahedralize Surface (TetGen) filter, or remove them (ParaView's Mesh "
+               "Quality filter with the Volume measure shows them).";
+    throw InvalidInputError(message.str());
+  }
+  if (report.sliverTets > 0)
+  {
+    std::ostringstream message;
+    message << report.sliverTets << " of the " << mesh.tets.size()
+            << " tetrahedra are slivers: their smallest dihedral angle is below the minimum of "
+            << kMinDihedralDegrees << " degrees (the worst is " << report.minDihedralDegrees
+            << " degrees, cell " << report.worstSliverTet
+            << "). A sliver's volume forces are unbounded (volume ratios explode, the stable time "
+               "step collapses). Use Soft Body's Tetrahedralize Surface (TetGen) filter to mesh "
+               "the body's surface (Extract Surface first for a volume mesh); Delaunay 3D makes "
+               "such slivers. Soft Body Mesh Quality's MinDihedralAngle cell array shows them.";
     throw InvalidInputError(message.str());
   }
   if (report.invertedTets > 0)

@@ -2,6 +2,8 @@
 // are read exactly as TetGen reads them. Its loaders trust their input (a garbled count makes
 // them allocate or read blindly, and they print to stdout), so the headers are checked here
 // first against what the file really holds, and the loaded arrays are checked afterwards.
+// What they print ("Opening ...", and their own error reports) is captured, never left on the
+// process's stdout: on failure it becomes part of the error message.
 #include "softbody/mesh/mesh_io.h"
 
 #include "softbody/common/errors.h"
@@ -9,16 +11,103 @@
 #include <tetgen.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <new>
 #include <sstream>
 #include <vector>
 
+#include <unistd.h> // dup, dup2: TetGen's loaders printf to stdout
+
 namespace softbody
 {
 namespace
 {
+
+/// Redirects file descriptor 1 into a temporary file for its lifetime and gives back what was
+/// written. TetGen's loaders call printf; its text would otherwise end up in the middle of a
+/// benchmark's output or ParaView's console. Process-wide, as stdout is: another thread's
+/// printf during a load is captured too (loads are short). If the redirection cannot be set
+/// up, the output simply stays on stdout.
+class StdoutCapture
+{
+public:
+  StdoutCapture()
+  {
+    std::fflush(stdout);
+    this->File = std::tmpfile();
+    if (this->File)
+    {
+      this->Saved = ::dup(1);
+      if (this->Saved < 0 || ::dup2(::fileno(this->File), 1) < 0)
+      {
+        this->restore();
+      }
+    }
+  }
+  ~StdoutCapture()
+  {
+    this->restore();
+    if (this->File)
+    {
+      std::fclose(this->File);
+    }
+  }
+  StdoutCapture(const StdoutCapture&) = delete;
+  StdoutCapture& operator=(const StdoutCapture&) = delete;
+
+  /// Ends the capture and returns the captured text.
+  std::string finish()
+  {
+    this->restore();
+    std::string text;
+    if (this->File && std::fseek(this->File, 0, SEEK_SET) == 0)
+    {
+      char buffer[4096];
+      std::size_t n = 0;
+      while ((n = std::fread(buffer, 1, sizeof buffer, this->File)) > 0 && text.size() < (1u << 16))
+      {
+        text.append(buffer, n);
+      }
+    }
+    return text;
+  }
+
+private:
+  void restore()
+  {
+    if (this->Saved >= 0)
+    {
+      std::fflush(stdout);
+      ::dup2(this->Saved, 1);
+      ::close(this->Saved);
+      this->Saved = -1;
+    }
+  }
+
+  std::FILE* File = nullptr;
+  int Saved = -1;
+};
+
+/// TetGen's report for a message: its lines joined, without the "Opening ..." lines.
+std::string tetgenReport(const std::string& captured)
+{
+  std::string report;
+  std::size_t start = 0;
+  while (start < captured.size())
+  {
+    std::size_t end = captured.find('\n', start);
+    if (end == std::string::npos)
+      end = captured.size();
+    const std::string line = captured.substr(start, end - start);
+    start = end + 1;
+    if (line.empty() || line.rfind("Opening ", 0) == 0)
+      continue;
+    report += (report.empty() ? "" : " ") + line;
+  }
+  return report.empty() ? std::string() : " TetGen said: '" + printableExcerpt(report, 120) + "'.";
+}
 
 bool endsWith(const std::string& s, const std::string& suffix)
 {
@@ -65,7 +154,7 @@ std::vector<long long> checkedHeader(const std::string& file, std::size_t expect
         if (*end != '\0')
         {
           throw InvalidInputError(file + ":" + std::to_string(lineNumber) + ": the " + what +
-            " header must hold integers, found '" + token + "'.");
+            " header must hold integers, found '" + printableExcerpt(token) + "'.");
         }
         header.push_back(v);
       }
@@ -136,6 +225,7 @@ TetMesh readTetGenMesh(const std::string& path, MeshFileInfo* info)
 
   tetgenio io;
   bool loaded = false;
+  StdoutCapture capture;
   try
   {
     std::vector<char> name(base.begin(), base.end());
@@ -145,16 +235,17 @@ TetMesh readTetGenMesh(const std::string& path, MeshFileInfo* info)
   catch (int code)
   {
     throw InvalidInputError("TetGen could not read '" + base + ".node/.ele' (error code " +
-      std::to_string(code) + "): the file is malformed (TetGen's report is on the console).");
+      std::to_string(code) + "): the file is malformed." + tetgenReport(capture.finish()));
   }
   catch (const std::bad_alloc&)
   {
     throw InvalidInputError("TetGen could not read '" + base + ".node/.ele': out of memory.");
   }
+  const std::string report = tetgenReport(capture.finish());
   if (!loaded)
   {
-    throw InvalidInputError("TetGen could not read '" + base +
-      ".node/.ele': the file is malformed or truncated (TetGen's report is on the console).");
+    throw InvalidInputError(
+      "TetGen could not read '" + base + ".node/.ele': the file is malformed or truncated." + report);
   }
   if (io.mesh_dim != 3 || io.numberofpoints <= 0 || !io.pointlist)
   {

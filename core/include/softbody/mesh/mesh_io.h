@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <istream>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace softbody
 {
@@ -14,8 +16,16 @@ namespace softbody
 struct MeshFileInfo
 {
   std::string format;              ///< e.g. "TetGen", "Gmsh 2.2", "Gmsh 4.1"
-  std::size_t skippedElements = 0; ///< elements that are not 4-node tets (triangles, lines, ...)
+  std::size_t skippedElements = 0; ///< points, lines, triangles, quadrangles (not volume cells)
+  std::size_t convertedElements = 0; ///< hexahedra, prisms and pyramids split into tetrahedra
+  /// What the reader changed, for the user (e.g. how many hexahedra it split into how many tets).
+  std::vector<std::string> warnings;
 };
+
+/// `text` for an error message: at most `maxChars` characters (then "..."), every byte that is
+/// not printable ASCII written as \xHH (tab as \t), so binary garbage in a file can neither
+/// flood the console nor send control characters to it.
+std::string printableExcerpt(std::string_view text, std::size_t maxChars = 60);
 
 /// Reads a TetGen mesh through TetGen's own loader. `path` names the .node or the .ele file (or
 /// their common base name); both must exist. Tets are returned as stored (not re-oriented), with
@@ -23,10 +33,15 @@ struct MeshFileInfo
 /// truncated or garbled file, out-of-range indices or non-finite coordinates.
 TetMesh readTetGenMesh(const std::string& path, MeshFileInfo* info = nullptr);
 
-/// Reads the nodes and the 4-node tetrahedra (element type 4) of a Gmsh ASCII .msh file,
-/// format 2.x or 4.1. Other element types are skipped and counted; node tags are mapped to
-/// contiguous indices in file order; tets are returned as stored. Throws InvalidInputError,
-/// naming the line, for binary, unsupported, truncated or malformed files.
+/// Reads the nodes and the volume cells of a Gmsh ASCII .msh file, format 2.x or 4.1. 4-node
+/// tetrahedra (element type 4) are returned as stored; 8-node hexahedra (5), 6-node prisms (6)
+/// and 5-node pyramids (7) are split into 6, 3 and 2 tetrahedra, conformingly (each quadrangle
+/// face is cut along the diagonal through its lowest-numbered node, so two cells sharing it
+/// cut it alike), positively oriented for a valid cell, and each conversion is counted in
+/// `info->warnings`. Points, lines, triangles and quadrangles are skipped and counted; volume
+/// cells of second or higher order are refused with their count. Node tags are mapped to
+/// contiguous indices in file order. Throws InvalidInputError, naming the line, for binary,
+/// unsupported, truncated or malformed files.
 TetMesh readGmshMesh(const std::string& path, MeshFileInfo* info = nullptr);
 
 /// Same as readGmshMesh on an open stream; `name` is used in messages.
