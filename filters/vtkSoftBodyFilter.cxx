@@ -6,6 +6,7 @@
 #include "vtkSoftBodyPbdAdapter.h"
 #include "vtkSoftBodySettings.h"
 #include "vtkSoftBodySkin.h"
+#include "vtkSoftBodySurfaceInput.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -147,8 +148,10 @@ int vtkSoftBodyFilter::FillInputPortInformation(int port, vtkInformation* info)
 {
   if (port == 1)
   {
-    // The render surface to skin onto the body: optional.
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+    // The render surface to skin onto the body: optional. Any data object is accepted here so
+    // that a wrong type gets one clear error (vtkSoftBodySurfaceInput) instead of the
+    // executive's repeated type errors.
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
     info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
     return 1;
   }
@@ -224,12 +227,19 @@ int vtkSoftBodyFilter::RequestData(
   vtkPolyData* particles = vtkPolyData::GetData(outputVector, 1);
   vtkTable* convergence = vtkTable::GetData(outputVector, 2);
   vtkPolyData* skinned = vtkPolyData::GetData(outputVector, 3);
-  vtkPolyData* surface = vtkPolyData::GetData(inputVector[1], 0); // optional
+  vtkDataObject* surfaceInput = vtkDataObject::GetData(inputVector[1], 0); // optional
   if (!input || !mesh || !particles || !convergence || !skinned)
   {
     vtkErrorMacro("Missing input or output data object.");
     return 0;
   }
+  const std::string surfaceError = vtkSoftBodySurfaceInput::SkinSurfaceError(surfaceInput);
+  if (!surfaceError.empty())
+  {
+    vtkErrorMacro(<< surfaceError);
+    return 0;
+  }
+  vtkPolyData* surface = vtkPolyData::SafeDownCast(surfaceInput);
 
   // The requested time comes on the port the request came from (the other port may hold a
   // stale request); both outputs are produced for it.
@@ -311,10 +321,7 @@ int vtkSoftBodyFilter::RequestData(
     return 0;
   }
 
-  // Assemble the outputs.
-  this->FillMesh(input, mesh);
-  this->FillParticles(mesh, particles);
-  this->FillConvergence(convergence);
+  // Assemble the outputs. The surface is bound first: binding may warn (Warnings field data).
   if (surface)
   {
     const std::string skinError = this->Internals->Skin.Bind(input, surface);
@@ -323,6 +330,12 @@ int vtkSoftBodyFilter::RequestData(
       vtkErrorMacro(<< "Cannot skin the Surface input onto the body: " << skinError);
       return 0;
     }
+  }
+  this->FillMesh(input, mesh, surface != nullptr);
+  this->FillParticles(mesh, particles);
+  this->FillConvergence(convergence);
+  if (surface)
+  {
     this->Internals->Skin.Fill(surface, this->Internals->Simulation->positions(), skinned);
   }
   stampTime();
@@ -515,7 +528,8 @@ double vtkSoftBodyFilter::StepUsed() const
 }
 
 //------------------------------------------------------------------------------
-void vtkSoftBodyFilter::FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output)
+void vtkSoftBodyFilter::FillMesh(
+  vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, bool withSurface)
 {
   const softbody::Simulation& simulation = *this->Internals->Simulation;
 
@@ -584,6 +598,10 @@ void vtkSoftBodyFilter::FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid
   for (const std::string& warning : vtkSoftBodySettings::Warnings(this->P))
   {
     warnings.push_back(warning);
+  }
+  if (withSurface && !this->Internals->Skin.GetWarning().empty())
+  {
+    warnings.push_back(this->Internals->Skin.GetWarning());
   }
   field->AddArray(MakeStringArray("Warnings", warnings));
   field->AddArray(MakeStringArray("Device", { kDeviceNames[this->Internals->DeviceUsed] }));

@@ -381,7 +381,8 @@ private:
   double StepUsed() const;
   /// Brings the simulation to time `t` through the cache; false when aborted.
   bool AdvanceTo(double t);
-  void FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output);
+  /// `withSurface`: a Surface input is bound (its binding warning joins Warnings).
+  void FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, bool withSurface);
   void FillConvergence(vtkTable* output);
   void FillParticles(vtkUnstructuredGrid* mesh, vtkPolyData* output);
 

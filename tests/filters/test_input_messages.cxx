@@ -175,6 +175,24 @@ void FarSurfaceWarnsAndWrongTypeIsOneError(CapturingOutputWindow* window)
     const std::size_t once = window->Text.size();
     SB_CHECK(f.Update(0.1), f.Messages->AllErrors());
     SB_CHECK(window->Text.size() == once, "said once per binding, not every frame");
+    SB_CHECK(sbtest::FieldString(f.Mesh(), "Warnings").find("Surface input lies") != std::string::npos,
+      "the far-surface warning is also in field data Warnings");
+  }
+  {
+    // A grid connected as the Surface: exactly one error, naming its type and the remedy.
+    sbtest::CapturedFilter f(body);
+    f.Filter->SetInputData(1, body);
+    SB_CHECK(!f.Update(0.05), "a vtkUnstructuredGrid Surface is refused");
+    std::size_t count = 0;
+    for (const std::string& error : f.Messages->Errors)
+    {
+      count += error.find("must be a polygonal surface (vtkPolyData); it is a vtkUnstructuredGrid") !=
+          std::string::npos ? 1 : 0;
+    }
+    SB_CHECK(count == 1, "one clear error expected; got:\n" << f.Messages->AllErrors());
+    SB_CHECK(f.Messages->Errors.size() <= 2,
+      "no repeated type errors (the executive may add one 'returned failure'); got:\n"
+        << f.Messages->AllErrors());
   }
 
   // The check the filter's Surface port calls (see vtkSoftBodySurfaceInput::SkinSurfaceError).
