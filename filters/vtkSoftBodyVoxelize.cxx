@@ -16,6 +16,9 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSMPThreadLocal.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -26,12 +29,63 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <thread>
+#include <functional>
+#include <mutex>
 
 vtkStandardNewMacro(vtkSoftBodyVoxelize);
 
 namespace
 {
+/// Classifies lattice slices with a distance object of the calling thread's own, made on
+/// first use from a private copy of the surface (the copy is taken under a lock: the shared
+/// surface is only read, but VTK's copy paths may touch its caches).
+struct SliceClassifier
+{
+  vtkPolyData* Surface;
+  std::function<void(vtkImplicitPolyDataDistance*, int)> Classify;
+  vtkSMPThreadLocal<vtkSmartPointer<vtkPolyData>> Copy;
+  vtkSMPThreadLocal<vtkSmartPointer<vtkImplicitPolyDataDistance>> Distance;
+  std::mutex CopyLock;
+
+  SliceClassifier(vtkPolyData* surface, std::function<void(vtkImplicitPolyDataDistance*, int)> classify)
+    : Surface(surface)
+    , Classify(std::move(classify))
+  {
+  }
+
+  void Initialize()
+  {
+    vtkSmartPointer<vtkImplicitPolyDataDistance>& distance = this->Distance.Local();
+    if (distance)
+    {
+      return; // this thread's copy from an earlier block
+    }
+    auto copy = vtkSmartPointer<vtkPolyData>::New();
+    {
+      std::lock_guard<std::mutex> lock(this->CopyLock);
+      auto corners = vtkSmartPointer<vtkPoints>::New();
+      corners->DeepCopy(this->Surface->GetPoints());
+      auto polys = vtkSmartPointer<vtkCellArray>::New();
+      polys->DeepCopy(this->Surface->GetPolys());
+      copy->SetPoints(corners);
+      copy->SetPolys(polys);
+    }
+    this->Copy.Local() = copy;
+    distance = vtkSmartPointer<vtkImplicitPolyDataDistance>::New();
+    distance->SetInput(copy);
+  }
+
+  void operator()(vtkIdType begin, vtkIdType end)
+  {
+    for (vtkIdType k = begin; k < end; ++k)
+    {
+      this->Classify(this->Distance.Local(), static_cast<int>(k));
+    }
+  }
+
+  void Reduce() {}
+};
+
 constexpr double kMaxNodes = 2.0e8; // ~1.6 GB of flags and maps: refuse beyond, with the reason
 }
 
@@ -134,37 +188,22 @@ int vtkSoftBodyVoxelize::RequestData(
       }
     }
   };
-  // One distance object per thread, made here on the calling thread, each on a private copy
-  // of the surface's geometry (points and triangles, no attribute arrays). They used to share
-  // the cleaned surface, and the flags then changed from run to run with 2 or more threads
-  // (1,604 to 1,613 particles on bunny_10k.obj; always the same with 1 thread): VTK 9.1's
+  // One distance object per thread, each on a private copy of the surface's geometry (points
+  // and triangles, no attribute arrays). They used to share the cleaned surface, and the flags
+  // then changed from run to run with 2 or more threads (1,604 to 1,613 particles on
+  // bunny_10k.obj; always the same with 1 thread): VTK 9.1's
   // vtkImplicitPolyDataDistance::SetInput keeps a triangle-filtered polydata that still shares
   // the caller's vtkPoints and point data, and queries on shared VTK data objects are not
   // thread-safe (const-looking calls refresh internal caches). A shared object flipped a node's
-  // inside/outside sign now and then, and the distance-based skipping below copies a flag to
-  // the nodes it skips. Private copies cost one surface per thread and make the flags
-  // independent of the thread count. Threads take whole slices, so no two write the same
-  // flag; slices go in blocks so progress and abort are handled between blocks, on this
-  // thread, as VTK requires.
-  const int threads = this->NumberOfThreads > 0
-    ? this->NumberOfThreads
-    : static_cast<int>(std::max(1u, std::min(std::thread::hardware_concurrency(), 64u)));
-  std::vector<vtkSmartPointer<vtkPolyData>> surfaces; // kept alive while the distances run
-  std::vector<vtkSmartPointer<vtkImplicitPolyDataDistance>> distances;
-  for (int t = 0; t < std::min(threads, grid.nodes[2]); ++t)
-  {
-    auto corners = vtkSmartPointer<vtkPoints>::New();
-    corners->DeepCopy(triangles->GetPoints());
-    auto polys = vtkSmartPointer<vtkCellArray>::New();
-    polys->DeepCopy(triangles->GetPolys());
-    surfaces.push_back(vtkSmartPointer<vtkPolyData>::New());
-    surfaces.back()->SetPoints(corners);
-    surfaces.back()->SetPolys(polys);
-    distances.push_back(vtkSmartPointer<vtkImplicitPolyDataDistance>::New());
-    distances.back()->SetInput(surfaces.back());
-  }
-  const int workers = static_cast<int>(distances.size());
-  const int block = std::max(workers, grid.nodes[2] / 20);
+  // inside/outside sign now and then, and the distance-based skipping copies a flag to the
+  // nodes it skips. Private copies cost one surface per thread and make the flags independent
+  // of the thread count. Each slice is written by the thread that classifies it, so no two
+  // write one flag; slices go in blocks so progress and abort are handled between blocks, on
+  // this thread, as VTK requires.
+  SliceClassifier classifier{ triangles, classifySlice };
+  // Debian's VTK defaults to the sequential SMP backend: ask for its std::thread one here.
+  const vtkSMPTools::Config threads{ this->NumberOfThreads, "STDThread", false };
+  const int block = std::max(1, grid.nodes[2] / 20);
   for (int first = 0; first < grid.nodes[2]; first += block)
   {
     this->UpdateProgress(0.9 * first / grid.nodes[2]);
@@ -173,24 +212,7 @@ int vtkSoftBodyVoxelize::RequestData(
       return 1;
     }
     const int last = std::min(grid.nodes[2], first + block);
-    std::vector<std::thread> pool;
-    for (int w = 1; w < workers; ++w)
-    {
-      pool.emplace_back([&, w] {
-        for (int k = first + w; k < last; k += workers)
-        {
-          classifySlice(distances[static_cast<std::size_t>(w)], k);
-        }
-      });
-    }
-    for (int k = first; k < last; k += workers)
-    {
-      classifySlice(distances[0], k);
-    }
-    for (std::thread& worker : pool)
-    {
-      worker.join();
-    }
+    vtkSMPTools::LocalScope(threads, [&] { vtkSMPTools::For(first, last, 1, classifier); });
   }
 
   softbody::Lattice lattice;

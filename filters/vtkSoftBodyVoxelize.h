@@ -57,8 +57,9 @@ public:
   /// Body filter's Density, so a lattice and a tet mesh of one surface weigh the same.
   vtkSetClampMacro(Density, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Density, double);
-  /// Threads classifying the lattice nodes (0 = one per hardware thread, at most 64). The
-  /// result does not depend on it (tests compare 1 and 2); C++ only, not a ParaView property.
+  /// Threads classifying the lattice nodes through vtkSMPTools (0 = one per hardware thread, at
+  /// most 64). The result does not depend on it (tests compare 1 and 2); C++ only, not a
+  /// ParaView property.
   vtkSetClampMacro(NumberOfThreads, int, 0, 64);
   vtkGetMacro(NumberOfThreads, int);
 
