@@ -1,6 +1,7 @@
 #include "vtkSoftBodyFilter.h"
 
 #include "vtkSoftBodyArrays.h"
+#include "vtkSoftBodyDistribution.h"
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyInputConversion.h"
 #include "vtkSoftBodyPbdAdapter.h"
@@ -16,6 +17,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -92,6 +94,8 @@ public:
   /// The optional render surface's binding to the body (kept while both are unchanged).
   vtkSoftBodySkin Skin;
   vtkSoftBodyFrameCache Cache;
+  /// Under MPI: this rank's whole bodies, gathered and dealt from the ranks' pieces.
+  vtkSoftBodyDistribution Distribution;
   /// Grid frame the simulation's state is exactly at; -1 when between frames or unknown.
   int SimulationFrame = -1;
 
@@ -278,9 +282,20 @@ int vtkSoftBodyFilter::RequestData(
     }
   };
 
-  // In a parallel run a rank may hold no piece of the body: it outputs nothing, quietly, and
-  // takes part in nothing, so no rank waits on it.
-  if ((input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0) &&
+  // Under MPI each rank simulates whole bodies: the pieces are gathered into bodies and the
+  // bodies dealt to the ranks (vtkSoftBodyDistribution; every rank takes part). A rank without
+  // a body outputs nothing, quietly.
+  if (vtkMultiProcessController* controller = vtkSoftBodyDistribution::ParallelController())
+  {
+    input = this->Internals->Distribution.LocalBodies(input, controller);
+    if (input->GetNumberOfCells() == 0)
+    {
+      stampTime();
+      return 1;
+    }
+  }
+  // Pieces streamed in one process (no MPI): an empty piece is normal and outputs nothing.
+  else if ((input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0) &&
     requestInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()) > 1)
   {
     stampTime();

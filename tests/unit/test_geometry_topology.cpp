@@ -1,6 +1,7 @@
 // Tet volume gradients and the connectivity derived from tets.
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/mesh/topology.h"
+#include "softbody/mesh/components.h"
 #include "softbody/common/errors.h"
 
 #include <gtest/gtest.h>
@@ -169,4 +170,16 @@ TEST(TetMesh, DegenerateMessageNamesTheRemeshingFilter)
   }
   EXPECT_NE(message.find("degenerate"), std::string::npos) << message;
   EXPECT_NE(message.find("Tetrahedralize Surface (TetGen)"), std::string::npos) << message;
+}
+
+TEST(Components, CellsSharingAPointAreOneBodyNumberedByFirstCell)
+{
+  // Cells: {0,1} {5,6} {1,2} {7} {2,3} -> bodies {0,2,4} (points 0-3), {1} (5,6), {3} (7).
+  const std::vector<std::int64_t> offsets{ 0, 2, 4, 6, 7, 9 };
+  const std::vector<std::int64_t> points{ 0, 1, 5, 6, 1, 2, 7, 2, 3 };
+  const softbody::Components c = softbody::connectedComponents(8, offsets, points);
+  EXPECT_EQ(c.count, 3);
+  EXPECT_EQ(c.ofCell, (std::vector<std::int32_t>{ 0, 1, 0, 2, 0 }));
+  // Point 4 is in no cell: it joins nothing. A bad index is refused with its value.
+  EXPECT_THROW(softbody::connectedComponents(3, offsets, points), softbody::InvalidInputError);
 }
