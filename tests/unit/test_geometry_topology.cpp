@@ -105,7 +105,7 @@ TEST(TetMesh, InspectionCountsInvertedDegenerateAndUnused)
 TEST(TetMesh, SliversBelowTheMinimumDihedralAngleAreRefusedWithTheWorstAngle)
 {
   TetMesh mesh = makeTetBox(1, 1, 1, 1.0);
-  const double regular = minDihedralAngleDegrees(
+  const double regular = tetMinDihedralAngleDegrees(
     Vec3(1, 1, 1), Vec3(1, -1, -1), Vec3(-1, 1, -1), Vec3(-1, -1, 1));
   EXPECT_NEAR(regular, 70.528779, 1e-5);
   const auto first = static_cast<std::int32_t>(mesh.points.size());
@@ -121,7 +121,7 @@ TEST(TetMesh, SliversBelowTheMinimumDihedralAngleAreRefusedWithTheWorstAngle)
   {
     std::swap(mesh.tets.back()[2], mesh.tets.back()[3]);
   }
-  const double worst = minDihedralAngleDegrees(mesh.points[sliver[0]], mesh.points[sliver[1]],
+  const double worst = tetMinDihedralAngleDegrees(mesh.points[sliver[0]], mesh.points[sliver[1]],
     mesh.points[sliver[2]], mesh.points[sliver[3]]);
   EXPECT_LT(worst, kMinDihedralDegrees);
   EXPECT_GT(worst, 0.0);

@@ -19,43 +19,6 @@ namespace
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDegreesPerRadian = 180.0 / 3.14159265358979323846;
 
-/// Angle [degrees] between the faces (a, b, c) and (a, b, d) along their shared edge ab: the
-/// angle between the components of ac and ad orthogonal to ab. atan2 of |u x v| and u . v
-/// stays accurate near 0 and 180 degrees, where acos of a normalized dot product does not, and
-/// that is exactly where slivers live.
-double dihedralAngle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
-{
-  Vec3 e = b - a;
-  const double length = e.norm();
-  if (!(length > 0.0))
-  {
-    return 0.0;
-  }
-  e /= length;
-  const Vec3 u = (c - a) - e * e.dot(c - a);
-  const Vec3 v = (d - a) - e * e.dot(d - a);
-  return std::atan2(u.cross(v).norm(), u.dot(v)) * kDegreesPerRadian;
-}
-
-bool hasValidIndices(const Tet& tet, std::size_t pointCount)
-{
-  for (int i = 0; i < 4; ++i)
-  {
-    if (tet[i] < 0 || static_cast<std::size_t>(tet[i]) >= pointCount)
-    {
-      return false;
-    }
-    for (int j = 0; j < i; ++j)
-    {
-      if (tet[i] == tet[j])
-      {
-        return false;
-      }
-    }
-  }
-  return true;
-}
-
 void validateSettings(const MeshQualitySettings& settings)
 {
   if (settings.binCount < 1)
@@ -120,7 +83,7 @@ void measureTets(const TetMesh& mesh, double sliverDegrees, MassSpringQualityRep
   const std::vector<Vec3>& x = mesh.points;
   parallelFor(tetCount, 1024, [&](std::size_t t) {
     const Tet& tet = mesh.tets[t];
-    if (!hasValidIndices(tet, x.size()) || !x[tet[0]].allFinite() || !x[tet[1]].allFinite() ||
+    if (!tetIndicesValid(tet, x.size()) || !x[tet[0]].allFinite() || !x[tet[1]].allFinite() ||
       !x[tet[2]].allFinite() || !x[tet[3]].allFinite())
     {
       return;
@@ -245,21 +208,6 @@ void estimateDynamics(const TetMesh& mesh, const std::vector<char>& usable,
 }
 
 } // namespace
-
-std::array<double, 6> tetDihedralAnglesDegrees(
-  const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3)
-{
-  // Edge (i, j) and the two corners opposite it, which span its two faces.
-  return { dihedralAngle(p0, p1, p2, p3), dihedralAngle(p0, p2, p1, p3),
-    dihedralAngle(p0, p3, p1, p2), dihedralAngle(p1, p2, p0, p3), dihedralAngle(p1, p3, p0, p2),
-    dihedralAngle(p2, p3, p0, p1) };
-}
-
-double tetMinDihedralAngleDegrees(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3)
-{
-  const std::array<double, 6> angles = tetDihedralAnglesDegrees(p0, p1, p2, p3);
-  return *std::min_element(angles.begin(), angles.end());
-}
 
 Histogram makeHistogram(const std::vector<double>& values, std::size_t binCount)
 {

@@ -11,25 +11,6 @@ namespace softbody
 namespace
 {
 
-bool hasBadIndices(const Tet& tet, std::size_t pointCount)
-{
-  for (int i = 0; i < 4; ++i)
-  {
-    if (tet[i] < 0 || static_cast<std::size_t>(tet[i]) >= pointCount)
-    {
-      return true;
-    }
-    for (int j = 0; j < i; ++j)
-    {
-      if (tet[i] == tet[j])
-      {
-        return true;
-      }
-    }
-  }
-  return false;
-}
-
 double volumeOf(const TetMesh& mesh, const Tet& t)
 {
   return signedTetVolume(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]);
@@ -38,7 +19,7 @@ double volumeOf(const TetMesh& mesh, const Tet& t)
 /// Dihedral angle [degrees] at edge (a, b) between the faces (a, b, c) and (a, b, d): the angle
 /// between c and d projected onto the plane normal to the edge. atan2 of |u x v| and u.v stays
 /// accurate near 0 and 180 degrees, where acos of a normalized dot product does not, and that
-/// is where slivers live. (The mass-spring quality report measures the same angle.)
+/// is where slivers live.
 double dihedralAngleDegrees(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 {
   constexpr double kDegreesPerRadian = 57.295779513082320876798;
@@ -56,12 +37,38 @@ double dihedralAngleDegrees(const Vec3& a, const Vec3& b, const Vec3& c, const V
 
 } // namespace
 
-double minDihedralAngleDegrees(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3)
+bool tetIndicesValid(const Tet& tet, std::size_t pointCount)
+{
+  for (int i = 0; i < 4; ++i)
+  {
+    if (tet[i] < 0 || static_cast<std::size_t>(tet[i]) >= pointCount)
+    {
+      return false;
+    }
+    for (int j = 0; j < i; ++j)
+    {
+      if (tet[i] == tet[j])
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+std::array<double, 6> tetDihedralAnglesDegrees(
+  const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3)
 {
   // Edge (i, j) and the two corners opposite it, which span its two faces.
-  return std::min({ dihedralAngleDegrees(p0, p1, p2, p3), dihedralAngleDegrees(p0, p2, p1, p3),
+  return { dihedralAngleDegrees(p0, p1, p2, p3), dihedralAngleDegrees(p0, p2, p1, p3),
     dihedralAngleDegrees(p0, p3, p1, p2), dihedralAngleDegrees(p1, p2, p0, p3),
-    dihedralAngleDegrees(p1, p3, p0, p2), dihedralAngleDegrees(p2, p3, p0, p1) });
+    dihedralAngleDegrees(p1, p3, p0, p2), dihedralAngleDegrees(p2, p3, p0, p1) };
+}
+
+double tetMinDihedralAngleDegrees(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3)
+{
+  const std::array<double, 6> angles = tetDihedralAnglesDegrees(p0, p1, p2, p3);
+  return *std::min_element(angles.begin(), angles.end());
 }
 
 TetMeshReport inspectTetMesh(
@@ -82,7 +89,7 @@ TetMeshReport inspectTetMesh(
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
   {
     const Tet& tet = mesh.tets[t];
-    if (hasBadIndices(tet, mesh.points.size()))
+    if (!tetIndicesValid(tet, mesh.points.size()))
     {
       ++report.badIndexTets;
       continue;
@@ -108,7 +115,7 @@ TetMeshReport inspectTetMesh(
   bool anyMeasured = false;
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
   {
-    if (hasBadIndices(mesh.tets[t], mesh.points.size()))
+    if (!tetIndicesValid(mesh.tets[t], mesh.points.size()))
     {
       continue;
     }
@@ -130,7 +137,7 @@ TetMeshReport inspectTetMesh(
       }
       // A degenerate tet is not also counted as a sliver: it is refused for its volume first.
       const Tet& tet = mesh.tets[t];
-      const double angle = minDihedralAngleDegrees(
+      const double angle = tetMinDihedralAngleDegrees(
         mesh.points[tet[0]], mesh.points[tet[1]], mesh.points[tet[2]], mesh.points[tet[3]]);
       anyMeasured = true;
       if (angle < minDihedralDegrees)

@@ -21,15 +21,6 @@
 namespace softbody
 {
 
-/// The six dihedral angles [degrees] of a tet, one per edge (01, 02, 03, 12, 13, 23): the angle
-/// between the two faces that share the edge. Orientation-independent (an inverted tet has
-/// the same angles); 0 where a face has collapsed.
-std::array<double, 6> tetDihedralAnglesDegrees(
-  const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3);
-
-/// Smallest of tetDihedralAnglesDegrees [degrees]. Regular tet: acos(1/3) = 70.53.
-double tetMinDihedralAngleDegrees(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3);
-
 /// Default sliver threshold [degrees]. A sliver has four well-spread points nearly in a plane:
 /// its edges look fine but a dihedral angle is near 0 (or 180), so its volume gradients are
 /// huge compared to its volume and the volume term's stiffness k_V / V0^2 explodes. 5 degrees

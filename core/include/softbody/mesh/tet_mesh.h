@@ -3,6 +3,7 @@
 
 #include "softbody/common/geometry.h"
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -50,9 +51,17 @@ constexpr double kDegenerateRelativeVolume = 1e-8;
 /// is a warning level; this is a refusal level.
 constexpr double kMinDihedralDegrees = 0.1;
 
-/// The smallest of a tet's six dihedral angles [degrees] (orientation-independent; 0 where a
-/// face has collapsed). Regular tet: acos(1/3) = 70.53 degrees.
-double minDihedralAngleDegrees(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3);
+/// True when the tet's four indices are distinct points of a mesh of `pointCount` points.
+bool tetIndicesValid(const Tet& tet, std::size_t pointCount);
+
+/// The six dihedral angles [degrees] of a tet, one per edge (01, 02, 03, 12, 13, 23): the angle
+/// between the two faces that share the edge. Orientation-independent (an inverted tet has
+/// the same angles); 0 where a face has collapsed.
+std::array<double, 6> tetDihedralAnglesDegrees(
+  const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3);
+
+/// Smallest of tetDihedralAnglesDegrees [degrees]. Regular tet: acos(1/3) = 70.53.
+double tetMinDihedralAngleDegrees(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3);
 
 TetMeshReport inspectTetMesh(const TetMesh& mesh,
   double degenerateRelativeVolume = kDegenerateRelativeVolume,
