@@ -129,13 +129,7 @@ vtkSoftBodyFilter::vtkSoftBodyFilter()
 {
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(4);
-  // One source of truth for the raw-mode defaults: core's RawConstants.
-  const softbody::RawConstants raw;
-  this->P.DistanceStiffness = raw.distanceStiffness;
-  this->P.DistanceDamping = raw.distanceDamping;
-  this->P.VolumeStiffness = raw.volumeStiffness;
-  this->P.VolumeDamping = raw.volumeDamping;
-  this->P.TotalMass = raw.totalMass;
+  this->P = vtkSoftBodySettings::DefaultParameters();
 }
 
 //------------------------------------------------------------------------------

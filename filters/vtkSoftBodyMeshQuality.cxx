@@ -122,13 +122,8 @@ vtkSoftBodyMeshQuality::vtkSoftBodyMeshQuality()
 {
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(2);
-  // One source of truth for the defaults: core's.
-  const softbody::RawConstants raw;
-  this->P.DistanceStiffness = raw.distanceStiffness;
-  this->P.DistanceDamping = raw.distanceDamping;
-  this->P.VolumeStiffness = raw.volumeStiffness;
-  this->P.VolumeDamping = raw.volumeDamping;
-  this->P.TotalMass = raw.totalMass;
+  this->P = vtkSoftBodySettings::DefaultParameters();
+  // The quality settings' defaults are core's too.
   const softbody::MeshQualitySettings settings;
   this->SliverAngle = settings.sliverDihedralDegrees;
   this->NumberOfBins = static_cast<int>(settings.binCount);

@@ -245,3 +245,17 @@ void vtkSoftBodySettings::PrintMaterial(
   os << indent << "TotalMass: " << p.TotalMass << "\n";
   os << indent << "MassDistribution: " << p.MassDistribution << "\n";
 }
+
+//------------------------------------------------------------------------------
+vtkSoftBodyFilter::Parameters vtkSoftBodySettings::DefaultParameters()
+{
+  vtkSoftBodyFilter::Parameters p;
+  // One source of truth for the raw-mode defaults: core's RawConstants.
+  const softbody::RawConstants raw;
+  p.DistanceStiffness = raw.distanceStiffness;
+  p.DistanceDamping = raw.distanceDamping;
+  p.VolumeStiffness = raw.volumeStiffness;
+  p.VolumeDamping = raw.volumeDamping;
+  p.TotalMass = raw.totalMass;
+  return p;
+}

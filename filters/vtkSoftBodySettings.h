@@ -45,6 +45,9 @@ struct vtkSoftBodyCoreSettings
 
 namespace vtkSoftBodySettings
 {
+/// The properties' defaults (the struct's, with the raw-mode constants from core).
+vtkSoftBodyFilter::Parameters DefaultParameters();
+
 /// The core settings for the selected method. Throws softbody::InvalidInputError for an
 /// enumeration value out of its list, a bad time grid or Cache memory limit (quoting the value).
 vtkSoftBodyCoreSettings Convert(const vtkSoftBodyFilter::Parameters& p);
