@@ -150,5 +150,26 @@ int main()
     SB_CHECK(filter->GetSimulatedStepsTotal() == steps1, "frame 3 comes from the cache");
   }
 
+  // Field data TimeStep is the step taken: the frame interval split into equal steps no larger
+  // than the automatic (or given) step, so StepCount x TimeStep lands exactly on each frame.
+  {
+    auto box = sbtest::MakeTetBox(2, 2, 2, 0.05, { 0.0, 0.0, 0.2 });
+    sbtest::CapturedFilter f(box);
+    f.Filter->SetFrameInterval(0.04);
+    f.Filter->SetEndTime(0.2);
+    f.Filter->SetTimeStep(3.0e-4); // 0.04 / 3e-4 = 133.3: 134 steps of 0.04 / 134 per frame
+    SB_CHECK(f.Update(0.12), f.Messages->AllErrors());
+    const double step = sbtest::FieldValue(f.Mesh(), "TimeStep");
+    const double steps = sbtest::FieldValue(f.Mesh(), "StepCount");
+    SB_CHECK(std::abs(step - 0.04 / 134.0) < 1e-15, "TimeStep is the step taken, 0.04 / 134 = "
+      << 0.04 / 134.0 << ", got " << step << " (the setting is 3e-4)");
+    SB_CHECK(steps == 3 * 134, "3 frames of 134 steps, got " << steps);
+    f.Filter->SetMethod(vtkSoftBodyFilter::XPBD);
+    f.Filter->SetTimeStep(0.0); // automatic: at most 1/120 s, so 5 steps of 0.008 s per frame
+    SB_CHECK(f.Update(0.04), f.Messages->AllErrors());
+    const double pbdStep = sbtest::FieldValue(f.Mesh(), "TimeStep");
+    SB_CHECK(std::abs(pbdStep - 0.008) < 1e-15, "XPBD TimeStep 0.04 / 5 = 0.008, got " << pbdStep);
+  }
+
   return sbtest::Result("filter.time_protocol");
 }
