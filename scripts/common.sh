@@ -21,6 +21,7 @@ SOFTBODY_PACKAGES=(
   cmake ninja-build g++ pkg-config              # the build tools
   paraview-dev python3-paraview python3-numpy   # ParaView 5.11 headers and CMake config, pvpython
   libdouble-conversion-dev libopenmpi-dev       # required by paraview-dev's CMake config
+  openmpi-bin                                   # mpirun, for the python.mpi test (mpirun -np 2 pvbatch)
   libtbb-dev libeigen3-dev libtet1.5-dev        # core/: threads, linear algebra, TetGen
   libegl-dev libopengl-dev libgl-dev            # gpu/: headless EGL + OpenGL compute
   libegl-mesa0 libgl1-mesa-dri                  # Mesa EGL + llvmpipe, so GPU tests run without a GPU
