@@ -262,7 +262,8 @@ def soak(device, frames, rng, reference):
     properties = properties_of(body)
     counts = {"requests": 0, "off_grid": 0, "motion_changes": 0, "ignored_changes": 0,
               "ignored_checks": 0, "frame0_checks": 0, "max_cached": 0, "min_cached": 10**9,
-              "evicting_requests": 0, "on_device": 0}
+              "evicting_requests": 0, "on_device": 0,
+              "refused_values": 0}
     rss_baseline = None
     rss_max = 0
     rss_samples = []
@@ -295,6 +296,30 @@ def soak(device, frames, rng, reference):
             points, velocity, _ = frame_of(body)
             reference.check(properties, t_check, points, velocity, f"{label} after {what}")
             counts["ignored_checks"] += 1
+
+        # 1b. Maybe a value out of range for a property the method reads: an error and an empty
+        #     output; the value put back, the cache is still there (the last frame costs no step).
+        if request > 0 and rng.random() < 0.04:
+            name, bad = ("YoungsModulus", -1.0) if body.Method == "Mass-Spring" else ("Iterations", 0)
+            saved = plain(getattr(body, name))
+            t_check = k * FRAME_INTERVAL
+            errors.clear()
+            setattr(body, name, bad)
+            body.UpdatePipeline(t_check)
+            mesh = body.GetClientSideObject().GetOutputDataObject(sbt.MESH_PORT)
+            if not errors.errors or (mesh is not None and mesh.GetNumberOfPoints() > 0):
+                sbt.check(False, f"{label} {name}={bad}: an error and an empty output")
+            del mesh
+            setattr(body, name, saved)
+            errors_before = len(errors.errors)
+            before_steps, before_frames, _ = internals(body)
+            body.UpdatePipeline(t_check)
+            after_steps, after_frames, _ = internals(body)
+            if errors.errors[errors_before:] or after_steps != before_steps or after_frames != before_frames:
+                sbt.check(False, f"{label} {name} back from {bad}: the cache is kept (frame {k} "
+                                 f"cost {after_steps - before_steps} steps, cached frames "
+                                 f"{before_frames} -> {after_frames}, errors {errors.errors[errors_before:]})")
+            counts["refused_values"] += 1
 
         # 2. Maybe change the motion.
         if request > 0 and rng.random() < 0.08:
@@ -381,6 +406,8 @@ def soak(device, frames, rng, reference):
                     f"equal fresh runs bitwise ({reference.runs} fresh runs so far)")
     sbt.check(counts["ignored_checks"] > 0,
               f"{label} {counts['ignored_changes']} ignored-property changes kept the cache")
+    sbt.check(counts["refused_values"] > 0,
+              f"{label} {counts['refused_values']} refused values, put back, kept the cache")
     sbt.check(counts["motion_changes"] >= 5, f"{label} {counts['motion_changes']} motion changes")
     sbt.check(counts["on_device"] >= frames // 4,
               f"{label} {counts['on_device']} requests under Mass-Spring on {device} "
@@ -400,6 +427,7 @@ def soak(device, frames, rng, reference):
 
 
 reference = Reference()
+errors = sbt.ErrorCapture()
 skipped = []
 for index, device in enumerate(d.strip() for d in args.devices.split(",")):
     frames = args.frames if device == "CPU" or args.gpu_frames is None else args.gpu_frames
@@ -414,4 +442,5 @@ for index, device in enumerate(d.strip() for d in args.devices.split(",")):
 
 print(f"fresh runs: {reference.runs} in {reference.seconds:.1f} s; total "
       f"{time.monotonic() - started:.1f} s")
+errors.close()
 print("python.soak passed" + (f" (skipped: {', '.join(skipped)})" if skipped else ""))
