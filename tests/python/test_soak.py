@@ -404,15 +404,18 @@ def soak(device, frames, rng, reference):
 
     sbt.check(True, f"{label} {counts['requests']} requests ({counts['off_grid']} off the grid) "
                     f"equal fresh runs bitwise ({reference.runs} fresh runs so far)")
-    sbt.check(counts["ignored_checks"] > 0,
+    # That the soak did what it is for (a shortened run, e.g. under a sanitizer, may not).
+    enough = frames >= 100
+    sbt.check(counts["ignored_checks"] > 0 or not enough,
               f"{label} {counts['ignored_changes']} ignored-property changes kept the cache")
-    sbt.check(counts["refused_values"] > 0,
+    sbt.check(counts["refused_values"] > 0 or not enough,
               f"{label} {counts['refused_values']} refused values, put back, kept the cache")
-    sbt.check(counts["motion_changes"] >= 5, f"{label} {counts['motion_changes']} motion changes")
-    sbt.check(counts["on_device"] >= frames // 4,
+    sbt.check(counts["motion_changes"] >= 5 or not enough,
+              f"{label} {counts['motion_changes']} motion changes")
+    sbt.check(counts["on_device"] >= frames // 4 or not enough,
               f"{label} {counts['on_device']} requests under Mass-Spring on {device} "
               f"(the rest under XPBD)")
-    sbt.check(counts["max_cached"] * FRAME_PAYLOAD <= 2 * MIB and counts["evicting_requests"] > 0,
+    sbt.check(counts["max_cached"] * FRAME_PAYLOAD <= 2 * MIB and (counts["evicting_requests"] > 0 or not enough),
               f"{label} the cache stayed within its budget while evicting (at most "
               f"{counts['max_cached']} frames cached; {counts['evicting_requests']} requests at the limit)")
     growth = (rss_max - rss_baseline) / 1024.0
