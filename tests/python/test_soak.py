@@ -11,7 +11,9 @@ a few frames either way), some off the grid. Between requests it changes
 * properties the current method ignores (PBD/XPBD settings under Mass-Spring, Mass-Spring
   settings under XPBD, EndTime, CacheMemoryLimit): the cache must stay: the last frame asked
   for is served again without a single simulation step and with the same number of cached
-  frames (SimulatedStepsTotal and CachedFrames of the filter).
+  frames (SimulatedStepsTotal and CachedFrames of the filter);
+* an out-of-range value of a property the method reads (YoungsModulus -1, Iterations 0 under
+  XPBD): an error and an empty output; put back, the cache is still there (no step).
 
 Checks, after every request:
 
@@ -27,12 +29,18 @@ Checks, after every request:
   (positions and velocities) computed here independently, unless frame 0 is the only frame
   (it is kept whatever the budget); frame 0 is served without stepping whenever asked for;
 * memory: the process's resident set (VmRSS of /proc/self/status) does not grow by more than
-  --rss-bound-mib over the run after a warm-up (a leak check: each fresh filter builds and
-  frees a whole simulation, each request allocates outputs).
+  --rss-bound-mib (4 MiB) over the run after a warm-up (a leak check: each fresh filter builds
+  and frees a whole simulation, each request allocates outputs; leaking one jelly frame per
+  request would add ~4 MiB). scripts/lsan_soak.sh runs this script under LeakSanitizer.
+
+Runtime (2 shared cores): ~20 s for the CPU part, ~60 s for the GPU part on llvmpipe, nearly all
+of it in the fresh reference runs; --gpu-frames trims the GPU part.
 
 Both filters' internals come from the client-side object: PrintSelf (str()) carries
 SimulatedStepsTotal and "CachedFrames: N (B bytes)"; GetSimulatedStepsTotal() and
-GetNumberOfCachedFrames() are used too when the plugin's module is Python-wrapped.
+GetNumberOfCachedFrames() are used too when the plugin's module is Python-wrapped (it is not in
+this build: the client-side object is a vtkUnstructuredGridAlgorithm to Python). The fresh
+filters are unregistered servermanager proxies, released after each use.
 """
 
 import hashlib
