@@ -297,13 +297,17 @@ int vtkSoftBodyFilter::RequestData(
   }
 
   // Compute. Core reports unusable input and divergence by exceptions; they must not cross
-  // into the pipeline, and a simulation that threw is not trusted again.
+  // into the pipeline, and a simulation that threw is not trusted again. A refusal while
+  // building a new simulation (core validates the settings then) leaves the current one and
+  // its cache untouched (PrepareSimulation builds before it replaces): they are kept.
+  bool prepared = false;
   try
   {
     if (!this->PrepareSimulation(input, settings))
     {
       return 0;
     }
+    prepared = true;
     if (!this->AdvanceTo(t))
     {
       // Aborted: CheckAbort has flagged the outputs; the executive empties them.
@@ -313,7 +317,10 @@ int vtkSoftBodyFilter::RequestData(
   catch (const softbody::InvalidInputError& e)
   {
     vtkErrorMacro(<< e.what());
-    this->Internals->Discard();
+    if (prepared)
+    {
+      this->Internals->Discard();
+    }
     return 0;
   }
   catch (const softbody::SimulationDivergedError& e)
@@ -326,7 +333,10 @@ int vtkSoftBodyFilter::RequestData(
   catch (const std::exception& e)
   {
     vtkErrorMacro(<< "The simulation failed: " << e.what());
-    this->Internals->Discard();
+    if (prepared)
+    {
+      this->Internals->Discard();
+    }
     return 0;
   }
 
@@ -365,24 +375,35 @@ bool vtkSoftBodyFilter::PrepareSimulation(
   {
     return true;
   }
-  internals.Discard();
 
+  // Build the new simulation aside and discard the current one only once that succeeded.
+  // Core validates the settings (and the input) while it builds, so a value it refuses throws
+  // here; discarding first lost every cached frame on such a refusal, and putting the value
+  // back then simulated everything again (found by python.soak).
+  vtkInternals built;
   if (settings.Method == PBD || settings.Method == XPBD)
   {
     std::string error;
-    std::unique_ptr<softbody::PbdSimulation> pbd = internals.PbdAdapter.Create(settings, input, error);
+    std::unique_ptr<softbody::PbdSimulation> pbd = built.PbdAdapter.Create(settings, input, error);
     if (!pbd)
     {
       vtkErrorMacro(<< error);
       return false;
     }
-    internals.Pbd = pbd.get();
-    internals.Simulation = std::move(pbd);
+    built.Pbd = pbd.get();
+    built.Simulation = std::move(pbd);
   }
-  else if (!this->CreateMassSpring(input, settings))
+  else if (!this->CreateMassSpring(input, settings, built))
   {
     return false;
   }
+  internals.Discard();
+  internals.Simulation = std::move(built.Simulation);
+  internals.Pbd = built.Pbd;
+  internals.PbdAdapter = std::move(built.PbdAdapter);
+  internals.DeviceUsed = built.DeviceUsed;
+  internals.GLRenderer = std::move(built.GLRenderer);
+  internals.DeviceWarning = std::move(built.DeviceWarning);
   internals.Cache.Insert(0, internals.Simulation->state());
   internals.SimulationFrame = 0;
   internals.Input = input;
@@ -405,9 +426,8 @@ bool vtkSoftBodyFilter::PrepareSimulation(
 
 //------------------------------------------------------------------------------
 bool vtkSoftBodyFilter::CreateMassSpring(
-  vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings)
+  vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings, vtkInternals& built)
 {
-  vtkInternals& internals = *this->Internals;
   softbody::BodyDescription body;
   const std::string inputError =
     vtkSoftBodyInputConversion::Convert(input, settings.PinnedPointsArray, body);
@@ -422,20 +442,20 @@ bool vtkSoftBodyFilter::CreateMassSpring(
   if (settings.Device == DEVICE_GPU_EGL)
   {
     std::string whyNot;
-    internals.Simulation = MakeGpuSimulation(body, settings.Scene, internals.GLRenderer, whyNot);
-    if (internals.Simulation)
+    built.Simulation = MakeGpuSimulation(body, settings.Scene, built.GLRenderer, whyNot);
+    if (built.Simulation)
     {
-      internals.DeviceUsed = DEVICE_GPU_EGL;
+      built.DeviceUsed = DEVICE_GPU_EGL;
     }
     else
     {
-      internals.DeviceWarning = "Device GPU (EGL) is unavailable, simulating on the CPU: " + whyNot;
-      vtkWarningMacro(<< internals.DeviceWarning);
+      built.DeviceWarning = "Device GPU (EGL) is unavailable, simulating on the CPU: " + whyNot;
+      vtkWarningMacro(<< built.DeviceWarning);
     }
   }
-  if (!internals.Simulation)
+  if (!built.Simulation)
   {
-    internals.Simulation =
+    built.Simulation =
       std::make_unique<softbody::MassSpringSimulation>(std::move(body), settings.Scene);
   }
   return true;

@@ -372,10 +372,17 @@ private:
   vtkSoftBodyFilter(const vtkSoftBodyFilter&) = delete;
   void operator=(const vtkSoftBodyFilter&) = delete;
 
+  class vtkInternals;
+
   /// Builds the simulation (and empties the cache) unless the input and the core settings it
-  /// was built from are unchanged.
+  /// was built from are unchanged. Builds before it replaces: when the new settings or input
+  /// are refused (false, or core's InvalidInputError), the current simulation and its cached
+  /// frames stay, so that correcting the value finds them again.
   bool PrepareSimulation(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings);
-  bool CreateMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings);
+  /// Builds a Mass-Spring simulation into `built` (Simulation, DeviceUsed, GLRenderer,
+  /// DeviceWarning), leaving the filter's own state alone.
+  bool CreateMassSpring(
+    vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings, vtkInternals& built);
   /// The step the simulation takes: the frame interval split into equal steps no larger than
   /// its step size (what the last advance used; before any, what the frames will use).
   double StepUsed() const;
@@ -386,7 +393,6 @@ private:
   void FillConvergence(vtkTable* output);
   void FillParticles(vtkUnstructuredGrid* mesh, vtkPolyData* output);
 
-  class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;
   unsigned long long SimulatedStepsTotal = 0;
 };

@@ -111,6 +111,21 @@ int main()
       "Mass-Spring keeps its cache when PBD properties change (ran "
         << a.Filter->GetSimulatedStepsTotal() - before << " steps)");
   }
+  // A value core refuses (it validates while it builds a simulation) keeps the cache: put back,
+  // the frames are all still there (python.soak found them thrown away).
+  {
+    const unsigned long long before = a.Filter->GetSimulatedStepsTotal();
+    const int cached = a.Filter->GetNumberOfCachedFrames();
+    a.Filter->SetYoungsModulus(-1.0);
+    SB_CHECK(!a.Update(FrameTime(5)), "YoungsModulus -1 is refused");
+    SB_CHECK(a.Messages->ErrorContains("YoungsModulus"), "the error names YoungsModulus: " << a.Messages->AllErrors());
+    a.Messages->Clear();
+    a.Filter->SetYoungsModulus(1.0e5);
+    SB_CHECK(sbtest::BitwiseEqual(Positions(a, FrameTime(5)), first5), "same frame after the refusal");
+    SB_CHECK(a.Filter->GetSimulatedStepsTotal() == before && a.Filter->GetNumberOfCachedFrames() == cached,
+      "the refusal kept the cache (ran " << a.Filter->GetSimulatedStepsTotal() - before << " steps, "
+        << a.Filter->GetNumberOfCachedFrames() << " frames cached, were " << cached << ")");
+  }
   {
     // Under XPBD, the PBD stiffnesses and the Mass-Spring damping are ignored; a compliance is not.
     sbtest::CapturedFilter x(box);
@@ -123,6 +138,12 @@ int main()
     x.Filter->SetStrainLimit(1.2);
     SB_CHECK(sbtest::BitwiseEqual(Positions(x, FrameTime(5)), xpbd5), "XPBD: same frame after ignored changes");
     SB_CHECK(x.Filter->GetSimulatedStepsTotal() == before, "XPBD keeps its cache when Mass-Spring properties change");
+    x.Filter->SetIterations(0); // refused by core's PBD set-up
+    SB_CHECK(!x.Update(FrameTime(5)) && x.Messages->ErrorContains("Iterations"), "XPBD: Iterations 0 is refused");
+    x.Messages->Clear();
+    x.Filter->SetIterations(10);
+    SB_CHECK(sbtest::BitwiseEqual(Positions(x, FrameTime(5)), xpbd5), "XPBD: same frame after the refusal");
+    SB_CHECK(x.Filter->GetSimulatedStepsTotal() == before, "XPBD: the refusal kept the cache");
     x.Filter->SetXPBDLinkCompliance(1.0e-2);
     Positions(x, FrameTime(5));
     SB_CHECK(x.Filter->GetSimulatedStepsTotal() > before, "XPBD: a compliance change is simulated anew");
