@@ -1,5 +1,8 @@
 #include "vtkSoftBodyCloth.h"
 
+#include "softbody/common/errors.h"
+#include "softbody/common/validation.h"
+
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCellType.h"
@@ -26,6 +29,23 @@ vtkSoftBodyCloth::vtkSoftBodyCloth()
 int vtkSoftBodyCloth::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
+  // Refused with the value given (the setters do not clamp).
+  try
+  {
+    softbody::check::positive("TotalMass", this->TotalMass, "kg");
+    softbody::check::nonNegative("DiagonalStiffness", this->DiagonalStiffness, "", "no diagonals");
+    softbody::check::atLeast("Resolution[0]", this->Resolution[0], 2);
+    softbody::check::atLeast("Resolution[1]", this->Resolution[1], 2);
+    if (this->PinnedCorners < NO_CORNERS || this->PinnedCorners > ALL_CORNERS)
+    {
+      softbody::check::badChoice("PinnedCorners", this->PinnedCorners, "0 (none), 1 (Point2 edge), 2 (all)");
+    }
+  }
+  catch (const softbody::InvalidInputError& e)
+  {
+    vtkErrorMacro(<< e.what());
+    return 0;
+  }
   softbody::ClothSpec spec;
   spec.origin = { this->Origin[0], this->Origin[1], this->Origin[2] };
   spec.point1 = { this->Point1[0], this->Point1[1], this->Point1[2] };

@@ -44,12 +44,12 @@ public:
   vtkSetVector2Macro(Resolution, int);
   vtkGetVector2Macro(Resolution, int);
   /// Mass of the whole sheet [kg] (> 0).
-  vtkSetClampMacro(TotalMass, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(TotalMass, double);
   vtkGetMacro(TotalMass, double);
   /// Stiffness of the diagonal links relative to the structural ones (0 = no diagonals).
-  vtkSetClampMacro(DiagonalStiffness, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(DiagonalStiffness, double);
   vtkGetMacro(DiagonalStiffness, double);
-  vtkSetClampMacro(PinnedCorners, int, NO_CORNERS, ALL_CORNERS);
+  vtkSetMacro(PinnedCorners, int);
   vtkGetMacro(PinnedCorners, int);
 
 protected:

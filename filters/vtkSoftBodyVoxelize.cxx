@@ -23,6 +23,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/common/validation.h"
 #include "softbody/lattice/lattice.h"
 #include "softbody/mesh/tetrahedralize.h" // checkClosedManifold
 
@@ -112,9 +113,22 @@ int vtkSoftBodyVoxelize::RequestData(
     vtkErrorMacro("The input has no polygons: Soft Body Voxelize needs a closed surface.");
     return 0;
   }
-  if (!(this->Density > 0.0) || !std::isfinite(this->Density))
+  // Refused with the value given (the setters do not clamp).
+  try
   {
-    vtkErrorMacro("Density must be > 0 kg/m^3 (got " << this->Density << ").");
+    softbody::check::positive("Density", this->Density, "kg/m^3");
+    softbody::check::nonNegative("Spacing", this->Spacing, "m", "from Resolution");
+    softbody::check::atLeast("Resolution", this->Resolution, 1);
+    softbody::check::nonNegative("DiagonalStiffness", this->DiagonalStiffness);
+    softbody::check::inRange("NumberOfThreads", this->NumberOfThreads, 0, 64);
+    if (this->OutputCells != LINKS && this->OutputCells != TETRAHEDRA)
+    {
+      softbody::check::badChoice("OutputCells", this->OutputCells, "0 (links), 1 (tetrahedra)");
+    }
+  }
+  catch (const softbody::InvalidInputError& e)
+  {
+    vtkErrorMacro(<< e.what());
     return 0;
   }
 

@@ -41,26 +41,26 @@ public:
     LINKS = 0,
     TETRAHEDRA = 1
   };
-  vtkSetClampMacro(OutputCells, int, LINKS, TETRAHEDRA);
+  vtkSetMacro(OutputCells, int);
   vtkGetMacro(OutputCells, int);
 
   /// Lattice spacing h [m]; 0 = the bounding box's longest side / Resolution.
-  vtkSetClampMacro(Spacing, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(Spacing, double);
   vtkGetMacro(Spacing, double);
   /// Voxels along the longest side when Spacing is 0 (at least 1).
-  vtkSetClampMacro(Resolution, int, 1, 10000);
+  vtkSetMacro(Resolution, int);
   vtkGetMacro(Resolution, int);
   /// Stiffness of the diagonal links relative to the axis links (0 = no diagonal links).
-  vtkSetClampMacro(DiagonalStiffness, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(DiagonalStiffness, double);
   vtkGetMacro(DiagonalStiffness, double);
   /// Density [kg/m^3]: each particle carries the mass of its voxel. Default 1100, as the Soft
   /// Body filter's Density, so a lattice and a tet mesh of one surface weigh the same.
-  vtkSetClampMacro(Density, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(Density, double);
   vtkGetMacro(Density, double);
   /// Threads classifying the lattice nodes through vtkSMPTools (0 = one per hardware thread, at
   /// most 64). The result does not depend on it (tests compare 1 and 2); C++ only, not a
   /// ParaView property.
-  vtkSetClampMacro(NumberOfThreads, int, 0, 64);
+  vtkSetMacro(NumberOfThreads, int);
   vtkGetMacro(NumberOfThreads, int);
 
 protected:

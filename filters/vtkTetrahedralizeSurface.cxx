@@ -13,6 +13,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/common/validation.h"
 #include "softbody/mesh/tetrahedralize.h"
 
 #include <algorithm>
@@ -54,6 +55,19 @@ int vtkTetrahedralizeSurface::RequestData(
   {
     vtkErrorMacro("The input has no polygons: Tetrahedralize Surface needs a closed triangle "
                   "surface (e.g. from an OBJ, STL or PLY file).");
+    return 0;
+  }
+  // Refused with the value given (the setters do not clamp).
+  try
+  {
+    softbody::check::nonNegative("MaxRadiusEdgeRatio", this->MaxRadiusEdgeRatio, "", "no refinement");
+    softbody::check::inRange("MinDihedralAngle", this->MinDihedralAngle, 0.0, 70.0);
+    softbody::check::nonNegative("MaxTetVolume", this->MaxTetVolume, "", "unbounded");
+    softbody::check::atLeast("MaxAddedPoints", this->MaxAddedPoints, 0);
+  }
+  catch (const softbody::InvalidInputError& e)
+  {
+    vtkErrorMacro(<< e.what());
     return 0;
   }
   this->UpdateProgress(0.0);

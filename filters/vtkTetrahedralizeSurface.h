@@ -33,7 +33,7 @@ public:
    * Largest radius-edge ratio of a tet (TetGen switch q) [-], default 2. Smaller gives rounder
    * tets and more of them; TetGen needs about 1.1 or more to finish. 0 turns refinement off.
    */
-  vtkSetClampMacro(MaxRadiusEdgeRatio, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(MaxRadiusEdgeRatio, double);
   vtkGetMacro(MaxRadiusEdgeRatio, double);
   ///@}
 
@@ -42,7 +42,7 @@ public:
    * Smallest dihedral angle TetGen tries to keep [deg] (second value of switch q), default 0
    * (TetGen's own default). Values above ~18 degrees may not terminate.
    */
-  vtkSetClampMacro(MinDihedralAngle, double, 0.0, 70.0);
+  vtkSetMacro(MinDihedralAngle, double);
   vtkGetMacro(MinDihedralAngle, double);
   ///@}
 
@@ -52,7 +52,7 @@ public:
    * cubed, or, when MaxTetVolumeIsRelative is on, as a fraction of the volume of the input's
    * bounding box (e.g. 1e-4 gives at least ~10^4 tets over the box).
    */
-  vtkSetClampMacro(MaxTetVolume, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(MaxTetVolume, double);
   vtkGetMacro(MaxTetVolume, double);
   vtkSetMacro(MaxTetVolumeIsRelative, vtkTypeBool);
   vtkGetMacro(MaxTetVolumeIsRelative, vtkTypeBool);
@@ -75,7 +75,7 @@ public:
    * 0 = no limit. Strict quality settings can make TetGen refine without end: at the limit it
    * stops with the mesh it has and the filter warns that the bounds may not be met.
    */
-  vtkSetClampMacro(MaxAddedPoints, int, 0, VTK_INT_MAX);
+  vtkSetMacro(MaxAddedPoints, int);
   vtkGetMacro(MaxAddedPoints, int);
   ///@}
 

@@ -3,6 +3,10 @@
 #include "filter_test_support.h"
 
 #include "vtkCellArray.h"
+#include "vtkSoftBodyCloth.h"
+#include "vtkSoftBodyVoxelize.h"
+#include "vtkSphereSource.h"
+#include "vtkTetrahedralizeSurface.h"
 
 namespace
 {
@@ -183,6 +187,33 @@ int main()
     ExpectError(f, "Solver 3", { "Solver", "got 3" });
     f.Filter->SetSolver(vtkSoftBodyFilter::JACOBI);
     ExpectSuccess(f, "valid enumerations again");
+  }
+
+  // The other filters do not clamp either: a bad value is refused with the value given.
+  {
+    auto refuses = [](vtkAlgorithm* algorithm, const char* what, const std::string& fragment) {
+      vtkNew<sbtest::MessageCatcher> messages;
+      messages->Observe(algorithm);
+      messages->Observe(algorithm->GetExecutive());
+      algorithm->Update();
+      SB_CHECK(messages->ErrorContains(fragment),
+        what << ": error should mention '" << fragment << "'; got:\n" << messages->AllErrors());
+    };
+    vtkNew<vtkSphereSource> sphere;
+    vtkNew<vtkSoftBodyVoxelize> voxelize;
+    voxelize->SetInputConnection(sphere->GetOutputPort());
+    voxelize->SetResolution(0);
+    refuses(voxelize, "Voxelize Resolution 0", "Resolution must be >= 1, got 0");
+    voxelize->SetResolution(8);
+    voxelize->SetDensity(-3.0);
+    refuses(voxelize, "Voxelize Density -3", "Density must be > 0 kg/m^3, got -3");
+    vtkNew<vtkTetrahedralizeSurface> tetrahedralize;
+    tetrahedralize->SetInputConnection(sphere->GetOutputPort());
+    tetrahedralize->SetMinDihedralAngle(80.0);
+    refuses(tetrahedralize, "MinDihedralAngle 80", "MinDihedralAngle must be in [0, 70], got 80");
+    vtkNew<vtkSoftBodyCloth> cloth;
+    cloth->SetTotalMass(-1.0);
+    refuses(cloth, "Cloth TotalMass -1", "TotalMass must be > 0 kg, got -1");
   }
 
   return sbtest::Result("filter.bad_inputs");
