@@ -265,6 +265,17 @@ TEST_F(MeshFiles, TetGenLinesWithoutNumbersAreNoRecords)
   expectSameMesh(m, readTetGenMesh((dir / "spaced.node").string()));
 }
 
+// Found by tests/fuzz/fuzz_tetgen_files (corpus file crash_rbox_header): a first record holding
+// "rbox" makes TetGen's load_node read a qhull rbox file, whose point count is on the next
+// record; the header check bounded the wrong number, and TetGen read past the end: a SEGV.
+TEST_F(MeshFiles, TetGenRboxHeaderIsRefused)
+{
+  write("rbox.node", "0 # rbox\n3 0 1 1 1\n");
+  write("rbox.ele", "1 4 0\n0 0 1 2 3\n");
+  const std::string message = messageOf([&] { readTetGenMesh((dir / "rbox.node").string()); });
+  EXPECT_NE(message.find("rbox"), std::string::npos) << message;
+}
+
 TEST_F(MeshFiles, Gmsh22And41RoundTrip)
 {
   const TetMesh m = sample();

@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <new>
 #include <sstream>
+#include <string_view>
 #include <vector>
 
 #include <unistd.h> // dup, dup2: TetGen's loaders printf to stdout
@@ -170,6 +171,16 @@ std::vector<long long> checkedHeader(const std::string& file, std::size_t expect
     if (headerLine == 0)
     {
       headerLine = number;
+      // TetGen's load_node reads a .node file whose first record contains "rbox" anywhere as
+      // a qhull rbox file: the dimension first, then the point count on the next record, which
+      // the check below would not bound (found by the fuzzer: "0 # rbox" followed by a count
+      // larger than the records left made TetGen read past the end of the file, a SEGV).
+      if (std::string_view(what) == "node" && line.find("rbox") != std::string::npos)
+      {
+        throw InvalidInputError(file + ":" + std::to_string(number) +
+          ": qhull rbox point files are not read; write a TetGen .node header "
+          "(<points> 3 <attributes> <markers>).");
+      }
       std::istringstream tokens(line.substr(0, line.find('#')));
       std::string token;
       while (tokens >> token)
