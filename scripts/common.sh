@@ -8,6 +8,9 @@
 #   SOFTBODY_BUILD_DIR   build folder (default: <repo>/build)
 #   SOFTBODY_JOBS        parallel build jobs (default: nproc)
 #   SOFTBODY_SKIP_APT=1  skip the package check (e.g. a machine with ParaView built from source)
+#   SOFTBODY_CMAKE_ARGS  array of extra CMake arguments for the configure (test.sh --asan/--tsan
+#                        set -DSOFTBODY_SANITIZER=...); a cached build folder is configured
+#                        again when they are given
 #
 # Defines for the caller: SOFTBODY_ROOT, SOFTBODY_BUILD_DIR, SOFTBODY_PLUGIN_FILE, and the
 # functions softbody_setup, softbody_check_packages, softbody_configure_and_build.
@@ -80,9 +83,17 @@ softbody_check_packages() {
 
 softbody_configure_and_build() {
   local jobs="${SOFTBODY_JOBS:-$(nproc)}"
+  local -a extra=()
+  if declare -p SOFTBODY_CMAKE_ARGS >/dev/null 2>&1; then
+    extra=("${SOFTBODY_CMAKE_ARGS[@]}")
+  fi
   if [[ ! -f "${SOFTBODY_BUILD_DIR}/CMakeCache.txt" ]]; then
-    softbody_log "configuring ${SOFTBODY_BUILD_DIR}"
-    cmake -S "${SOFTBODY_ROOT}" -B "${SOFTBODY_BUILD_DIR}" -G Ninja -DCMAKE_BUILD_TYPE=Release
+    softbody_log "configuring ${SOFTBODY_BUILD_DIR} ${extra[*]}"
+    cmake -S "${SOFTBODY_ROOT}" -B "${SOFTBODY_BUILD_DIR}" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+      "${extra[@]}"
+  elif [[ ${#extra[@]} -gt 0 ]]; then
+    # Make sure the cached folder has these settings (a no-op configure when it already does).
+    cmake -S "${SOFTBODY_ROOT}" -B "${SOFTBODY_BUILD_DIR}" "${extra[@]}" >/dev/null
   elif [[ ! -f "${SOFTBODY_BUILD_DIR}/build.ninja" && ! -f "${SOFTBODY_BUILD_DIR}/Makefile" ]]; then
     # A cache from an earlier configure that failed: configure again with the cached generator.
     softbody_log "re-configuring ${SOFTBODY_BUILD_DIR} (an earlier configure did not finish)"

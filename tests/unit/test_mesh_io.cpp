@@ -237,6 +237,45 @@ TEST_F(MeshFiles, TetGenBadFiles)
   EXPECT_GT(refused, 100u);
 }
 
+// Found by tests/fuzz/fuzz_tetgen_files (corpus file tetgen_digitless_line): a line without any
+// digit ("@@@", or one starting with a NUL byte) is no record for TetGen's loaders, which skip
+// it; the header check counted it as one, so a header announcing one record more than TetGen
+// finds sent TetGen's load_node_call past the end of the file: a SEGV on its NULL line.
+TEST_F(MeshFiles, TetGenLinesWithoutNumbersAreNoRecords)
+{
+  const TetMesh m = sample();
+  auto [node, ele] = tetgenText(m, 0);
+  write("digitless.ele", ele);
+  for (const std::string& noise : { std::string("@@@@\n"), std::string("\0\0 1 2 3\n", 9),
+         std::string("end of points\n") })
+  {
+    // One point line replaced by the noise: the header now announces one record too many.
+    std::string text = node;
+    const std::size_t second = text.find('\n', text.find("\n0 ") + 1) + 1;
+    text.replace(second, text.find('\n', second) + 1 - second, noise);
+    write("digitless.node", text);
+    const std::string message = messageOf([&] { readTetGenMesh((dir / "digitless.node").string()); });
+    EXPECT_NE(message.find("truncated file?"), std::string::npos) << message;
+  }
+  // Such lines between the records are skipped, as TetGen skips them: the mesh still loads.
+  std::string spaced = node;
+  spaced.insert(spaced.find("\n0 ") + 1, "@@@@\n");
+  write("spaced.node", spaced);
+  write("spaced.ele", ele);
+  expectSameMesh(m, readTetGenMesh((dir / "spaced.node").string()));
+}
+
+// Found by tests/fuzz/fuzz_tetgen_files (corpus file crash_rbox_header): a first record holding
+// "rbox" makes TetGen's load_node read a qhull rbox file, whose point count is on the next
+// record; the header check bounded the wrong number, and TetGen read past the end: a SEGV.
+TEST_F(MeshFiles, TetGenRboxHeaderIsRefused)
+{
+  write("rbox.node", "0 # rbox\n3 0 1 1 1\n");
+  write("rbox.ele", "1 4 0\n0 0 1 2 3\n");
+  const std::string message = messageOf([&] { readTetGenMesh((dir / "rbox.node").string()); });
+  EXPECT_NE(message.find("rbox"), std::string::npos) << message;
+}
+
 TEST_F(MeshFiles, Gmsh22And41RoundTrip)
 {
   const TetMesh m = sample();

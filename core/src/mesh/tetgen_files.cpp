@@ -13,9 +13,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <new>
 #include <sstream>
+#include <string_view>
 #include <vector>
 
 #include <unistd.h> // dup, dup2: TetGen's loaders printf to stdout
@@ -114,37 +114,73 @@ bool endsWith(const std::string& s, const std::string& suffix)
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-/// A data line in TetGen's sense: neither blank nor a '#' comment.
-bool isDataLine(const std::string& line)
+/// Whether TetGen's loaders take this piece of a file as a record. They read with
+/// tetgenio::readnumberline: fgets into a buffer of INPUTLINESIZE characters (so a longer line
+/// comes in several pieces, each judged alone, and a NUL byte ends what is looked at), then skip
+/// every character up to the first one that can start a number ('0'-'9', '.', '+', '-'), a '#'
+/// or the end of the string; a piece whose first such character is '#' or the end is skipped.
+/// Counting records by any other rule is unsafe: the fuzzer (tests/fuzz/fuzz_tetgen_files)
+/// found that a line without any digit (e.g. "@@@" or one starting with a NUL byte) counted as
+/// a record here but not by TetGen, so a header that matched our count sent TetGen past the
+/// end of the file, where its load_node_call dereferences the NULL line: a SEGV.
+bool isTetGenRecord(const char* piece)
 {
-  const std::size_t first = line.find_first_not_of(" \t\r");
-  return first != std::string::npos && line[first] != '#';
+  for (const char* c = piece; *c != '\0'; ++c)
+  {
+    if (*c == '#')
+      return false;
+    if (*c == '.' || *c == '+' || *c == '-' || (*c >= '0' && *c <= '9'))
+      return true;
+  }
+  return false;
 }
 
-/// Parses the first data line as integers and counts the data lines after it; checks that the
-/// header's first number (the count of records) is in [0, data lines].
+/// Reads the file in the pieces TetGen's loaders read (see isTetGenRecord), parses the first
+/// record as integers and counts the records after it; checks that the header's first number
+/// (the count of records) is in [0, records], so TetGen never reads past the end of the file.
 std::vector<long long> checkedHeader(const std::string& file, std::size_t expectedFields,
   const char* what, std::size_t& dataLines)
 {
-  std::ifstream in(file);
+  std::FILE* in = std::fopen(file.c_str(), "rb");
   if (!in)
   {
     throw InvalidInputError("Cannot open TetGen file '" + file + "'.");
   }
+  struct Closer
+  {
+    std::FILE* f;
+    ~Closer() { std::fclose(f); }
+  } closer{ in };
+  std::vector<char> buffer(INPUTLINESIZE);
   std::string line;
   std::vector<long long> header;
-  std::size_t lineNumber = 0, headerLine = 0;
+  std::size_t lineNumber = 1, headerLine = 0;
   dataLines = 0;
-  while (std::getline(in, line))
+  while (std::fgets(buffer.data(), INPUTLINESIZE, in))
   {
-    ++lineNumber;
-    if (!isDataLine(line))
+    const std::size_t number = lineNumber;
+    line.assign(buffer.data()); // up to a NUL byte, as TetGen sees it
+    if (!line.empty() && line.back() == '\n')
+    {
+      ++lineNumber;
+    }
+    if (!isTetGenRecord(buffer.data()))
     {
       continue;
     }
     if (headerLine == 0)
     {
-      headerLine = lineNumber;
+      headerLine = number;
+      // TetGen's load_node reads a .node file whose first record contains "rbox" anywhere as
+      // a qhull rbox file: the dimension first, then the point count on the next record, which
+      // the check below would not bound (found by the fuzzer: "0 # rbox" followed by a count
+      // larger than the records left made TetGen read past the end of the file, a SEGV).
+      if (std::string_view(what) == "node" && line.find("rbox") != std::string::npos)
+      {
+        throw InvalidInputError(file + ":" + std::to_string(number) +
+          ": qhull rbox point files are not read; write a TetGen .node header "
+          "(<points> 3 <attributes> <markers>).");
+      }
       std::istringstream tokens(line.substr(0, line.find('#')));
       std::string token;
       while (tokens >> token)
@@ -153,7 +189,7 @@ std::vector<long long> checkedHeader(const std::string& file, std::size_t expect
         const long long v = std::strtoll(token.c_str(), &end, 10);
         if (*end != '\0')
         {
-          throw InvalidInputError(file + ":" + std::to_string(lineNumber) + ": the " + what +
+          throw InvalidInputError(file + ":" + std::to_string(number) + ": the " + what +
             " header must hold integers, found '" + printableExcerpt(token) + "'.");
         }
         header.push_back(v);

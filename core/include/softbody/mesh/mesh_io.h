@@ -30,7 +30,8 @@ std::string printableExcerpt(std::string_view text, std::size_t maxChars = 60);
 /// Reads a TetGen mesh through TetGen's own loader. `path` names the .node or the .ele file (or
 /// their common base name); both must exist. Tets are returned as stored (not re-oriented), with
 /// 0-based indices whatever the file's first index. Throws InvalidInputError for a missing,
-/// truncated or garbled file, out-of-range indices or non-finite coordinates.
+/// truncated or garbled file, out-of-range indices or non-finite coordinates, and for a qhull
+/// rbox header (which TetGen would read as a different format).
 TetMesh readTetGenMesh(const std::string& path, MeshFileInfo* info = nullptr);
 
 /// Reads the nodes and the volume cells of a Gmsh ASCII .msh file, format 2.x or 4.1. 4-node
