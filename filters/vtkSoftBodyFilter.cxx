@@ -109,6 +109,8 @@ public:
   int DeviceUsed = vtkSoftBodyFilter::DEVICE_CPU;
   std::string GLRenderer;
   std::string DeviceWarning; ///< why the GPU was not used although asked for; empty otherwise
+  std::string RunWarning;     ///< the run to EndTime will take long (steps, time, remedies)
+  std::string RunWarningSaid; ///< the last one printed, so it is said once
 
   void Discard()
   {
@@ -308,6 +310,14 @@ int vtkSoftBodyFilter::RequestData(
       return 0;
     }
     prepared = true;
+    // Said before a long run starts (and again only if EndTime or the simulation changes it).
+    this->Internals->RunWarning = this->Internals->Simulation->longRunWarning(this->P.EndTime);
+    if (!this->Internals->RunWarning.empty() &&
+      this->Internals->RunWarning != this->Internals->RunWarningSaid)
+    {
+      vtkWarningMacro(<< this->Internals->RunWarning);
+      this->Internals->RunWarningSaid = this->Internals->RunWarning;
+    }
     if (!this->AdvanceTo(t))
     {
       // Aborted: CheckAbort has flagged the outputs; the executive empties them.
@@ -623,6 +633,10 @@ void vtkSoftBodyFilter::FillMesh(
   if (!this->Internals->DeviceWarning.empty())
   {
     warnings.push_back(this->Internals->DeviceWarning);
+  }
+  if (!this->Internals->RunWarning.empty())
+  {
+    warnings.push_back(this->Internals->RunWarning);
   }
   for (const std::string& warning : vtkSoftBodySettings::Warnings(this->P))
   {

@@ -156,6 +156,12 @@ const std::vector<std::string>& MassSpringGpuSimulation::warnings() const
   return Body->setup.warnings;
 }
 
+std::string MassSpringGpuSimulation::longRunWarning(double duration) const
+{
+  // The CPU's throughput: llvmpipe is slower, a real GPU faster; the order of magnitude holds.
+  return softbody::longRunWarning(stepCostOf(Body->setup), duration);
+}
+
 const StepPlan& MassSpringGpuSimulation::stepPlan() const
 {
   // GPU times arrive through GL queries: read them when asked for, not every step.

@@ -1,5 +1,6 @@
 // Stable time step estimates: the amplification analysis and the simulation that obeys it.
 #include "softbody/common/errors.h"
+#include "softbody/massspring/mass_spring_setup.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/massspring/stability.h"
@@ -85,4 +86,86 @@ TEST(Stability, AutomaticStepRunsAndAFarLargerStepIsCaughtWithItsTime)
     EXPECT_LE(error.time, 0.5);
     EXPECT_NE(std::string(error.what()).find("t = "), std::string::npos);
   }
+}
+
+namespace
+{
+BodyDescription steelBar(double dampingTime)
+{
+  BodyDescription body;
+  body.mesh = makeTetBox(2, 2, 8, 0.0125, Vec3(0, 0, 0.1)); // a 2.5 x 2.5 x 10 cm bar
+  body.material.physical.youngsModulus = 2.0e11;
+  body.material.physical.poissonRatio = 0.3;
+  body.material.physical.density = 7850.0;
+  body.material.physical.dampingTime = dampingTime;
+  return body;
+}
+} // namespace
+
+TEST(Stability, SteelHasAStableStepAndRunsAtIt)
+{
+  // Stiff and damped: the step is tiny (overdamped stiff modes need h < 2 / (beta w^2)) but it
+  // exists, and the bar falls at it without blowing up. (The estimate used to return 0 here,
+  // then the set-up took 1 ms steps and the run blew up.)
+  MassSpringSimulation damped(steelBar(2.0e-3), SceneSettings{});
+  EXPECT_GT(damped.estimatedStableStep(), 0.0);
+  EXPECT_LE(damped.stepSize(), damped.estimatedStableStep());
+  const double h = damped.stepSize();
+  damped.advance(200 * h);
+  for (const Vec3& v : damped.velocities())
+  {
+    EXPECT_TRUE(v.allFinite());
+    EXPECT_LT(v.norm(), 1.0); // 200 tiny steps of free fall: still almost at rest
+  }
+
+  // Without damping the step is the symplectic limit ~2 / w_max, far larger, and a 2 ms fall
+  // stays a rigid fall (no spurious vibration grows).
+  MassSpringSimulation undamped(steelBar(0.0), SceneSettings{});
+  EXPECT_GT(undamped.stepSize(), 100.0 * h);
+  undamped.advance(2.0e-3);
+  for (std::size_t i = 0; i < undamped.positions().size(); ++i)
+  {
+    const Vec3 fall = undamped.positions()[i] - undamped.restPositions()[i];
+    EXPECT_NEAR(fall.z(), -0.5 * 9.81 * 2.0e-3 * 2.0e-3, 1e-6);
+  }
+}
+
+TEST(Stability, ALongRunIsAnnouncedWithItsCauseAndRemedies)
+{
+  // The steel bar to 1 s: millions of steps, limited by damping; the warning says how many,
+  // how long, why, and what to change.
+  MassSpringSimulation steel(steelBar(2.0e-3), SceneSettings{});
+  const std::string warning = steel.longRunWarning(1.0);
+  EXPECT_NE(warning.find("steps of"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("limited by damping"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("with DampingTime 0 the stable step would be"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("MaxInverseMass"), std::string::npos) << warning;
+  // A soft body for a few seconds needs no warning.
+  BodyDescription jelly;
+  jelly.mesh = makeTetBox(3, 3, 3, 0.05, Vec3(0, 0, 0.2));
+  MassSpringSimulation soft(jelly, SceneSettings{});
+  EXPECT_EQ(soft.longRunWarning(3.0), "") << soft.estimatedStableStep();
+}
+
+TEST(Stability, LongRunEstimateCountsStepsAndTetSteps)
+{
+  // 1 s at 1 us steps on 30,000 tets: 1e6 steps x 3e4 tets / 3e7 tet-steps per second = 1000 s.
+  StepCost cost;
+  cost.step = 1.0e-6;
+  cost.stableStep = 1.0e-6;
+  cost.undampedStableStep = 1.0e-6; // not damping-limited: no damping advice
+  cost.tetCount = 30000;
+  const std::string warning = longRunWarning(cost, 1.0);
+  EXPECT_NE(warning.find("takes 1e+06 steps of 1e-06 s: about 16.7 minutes"), std::string::npos) << warning;
+  EXPECT_EQ(warning.find("DampingTime"), std::string::npos) << warning;
+  cost.integrator = Integrator::Midpoint; // two force evaluations per step
+  EXPECT_NE(longRunWarning(cost, 1.0).find("about 33.3 minutes"), std::string::npos);
+  cost.tetCount = 10; // more than a million cheap steps still deserve a word; fewer do not
+  EXPECT_FALSE(longRunWarning(cost, 2.0).empty());
+  EXPECT_TRUE(longRunWarning(cost, 0.5).empty());
+
+  // The stepper's estimate is the set-up's (the tet count survives the set-up's hand-over).
+  const MassSpringSimulation steel(steelBar(2.0e-3), SceneSettings{});
+  EXPECT_EQ(steel.longRunWarning(1.0),
+    longRunWarning(stepCostOf(prepareMassSpring(steelBar(2.0e-3), SceneSettings{})), 1.0));
 }

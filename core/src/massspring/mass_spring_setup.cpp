@@ -40,6 +40,8 @@ void chooseStep(MassSpringSetup& s)
   s.stableStep = stableTimeStep(scene.integrator, s.omegaMax, c.minDampingTime, c.maxDampingTime);
   const double symplecticStep =
     stableTimeStep(Integrator::EulerCromer, s.omegaMax, c.minDampingTime, c.maxDampingTime);
+  s.undampedStableStep = stableTimeStep(
+    scene.integrator == Integrator::Euler ? Integrator::EulerCromer : scene.integrator, s.omegaMax, 0.0, 0.0);
   if (scene.timeStep > 0.0)
   {
     s.step = scene.timeStep;
@@ -130,6 +132,61 @@ DynamicState restState(const MassSpringSetup& setup)
   state.positions = setup.mesh.points;
   state.velocities.assign(setup.mesh.points.size(), Vec3::Zero());
   return state;
+}
+
+StepCost stepCostOf(const MassSpringSetup& s)
+{
+  return { s.step, s.stableStep, s.undampedStableStep, s.constants.maxDampingTime,
+    s.scene.integrator, s.topology.tets.size() };
+}
+
+std::string longRunWarning(const StepCost& s, double duration)
+{
+  if (!(duration > 0.0) || !(s.step > 0.0))
+  {
+    return {};
+  }
+  const double steps = std::ceil(duration / s.step);
+  const double evaluationsPerStep = s.integrator == Integrator::Midpoint ? 2.0 : 1.0;
+  const double seconds = steps * evaluationsPerStep *
+    static_cast<double>(std::max<std::size_t>(1, s.tetCount)) / kTetStepsPerSecond;
+  if (steps <= 1.0e6 && seconds <= 60.0)
+  {
+    return {};
+  }
+  std::ostringstream message;
+  message.precision(3);
+  message << "Simulating " << duration << " s takes " << steps << " steps of " << s.step
+          << " s: about ";
+  if (seconds < 120.0)
+  {
+    message << seconds << " s";
+  }
+  else if (seconds < 7200.0)
+  {
+    message << seconds / 60.0 << " minutes";
+  }
+  else
+  {
+    message << seconds / 3600.0 << " hours";
+  }
+  message << " on 2 cores. ";
+  const bool dampingLimited = s.stableStep > 0.0 && s.undampedStableStep > 2.0 * s.stableStep;
+  if (dampingLimited)
+  {
+    message << "The step is limited by damping (a damping time of " << s.maxDampingTime
+            << " s overdamps the stiff modes): with DampingTime 0 the stable step would be "
+            << s.undampedStableStep << " s (" << s.undampedStableStep / s.stableStep
+            << "x fewer steps). ";
+  }
+  message << "Remedies: a shorter EndTime, a softer material (lower YoungsModulus)";
+  if (dampingLimited)
+  {
+    message << ", less damping (DampingTime)";
+  }
+  message << ", or MaxInverseMass to cap the lightest points (Soft Body Mesh Quality suggests a "
+             "value). The run reports progress and can be aborted.";
+  return message.str();
 }
 
 bool hasDiverged(const SceneSettings& scene, double maxStretch, bool finiteVelocities)

@@ -42,6 +42,7 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
   // Set-up shared with the GPU stepper (mass_spring_setup.h).
   MassSpringSetup setup = prepareMassSpring(std::move(body), scene);
   Plan = planMassSpring(setup);
+  Cost = stepCostOf(setup); // before the set-up's parts move into this stepper
   Scene = setup.scene;
   State = restState(setup);
   Mesh = std::move(setup.mesh);
@@ -52,6 +53,11 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
   StableStep = setup.stableStep;
   OmegaMax = setup.omegaMax;
   Warnings = std::move(setup.warnings);
+}
+
+std::string MassSpringSimulation::longRunWarning(double duration) const
+{
+  return softbody::longRunWarning(Cost, duration);
 }
 
 void MassSpringSimulation::restoreState(const DynamicState& snapshot)

@@ -53,6 +53,10 @@ public:
   virtual double stepSize() const = 0;            ///< [s]
   virtual double estimatedStableStep() const = 0; ///< [s]; 0 if none is stable or not relevant
 
+  /// Said before a run of `duration` simulated seconds that would take long (step count, wall
+  /// time estimate, remedies); empty when it will not.
+  virtual std::string longRunWarning(double /*duration*/) const { return {}; }
+
   /// Everything worth telling the user once (clamped parameters, re-oriented tets, ...).
   virtual const std::vector<std::string>& warnings() const = 0;
   /// The stages this scene runs per step, in order (only those it needs), each with the wall

@@ -25,6 +25,9 @@ struct MassSpringSetup
   double step = 0.0;       ///< step size advance() uses at most [s]
   double stableStep = 0.0; ///< estimated stable step of scene.integrator [s]; 0 if none
   double omegaMax = 0.0;   ///< highest-frequency bound [rad/s]
+  /// Stable step of the same integrator without damping (Euler-Cromer's for Euler) [s]: when it
+  /// is much larger than stableStep, damping, not stiffness, limits the step.
+  double undampedStableStep = 0.0;
   std::vector<std::string> warnings;
 };
 
@@ -33,6 +36,28 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
 
 /// Initial state: rest positions, zero velocities, time 0.
 DynamicState restState(const MassSpringSetup& setup);
+
+/// A mass-spring step costs about this many tet-steps per second and thread on this project's
+/// 2-core machine (bench_mass_spring: 2.4e7 to 3.1e7); used only to say ahead of a run that it
+/// will take long.
+constexpr double kTetStepsPerSecond = 3.0e7;
+
+/// What the cost of a run depends on, kept by the steppers.
+struct StepCost
+{
+  double step = 0.0;               ///< [s]
+  double stableStep = 0.0;         ///< [s]
+  double undampedStableStep = 0.0; ///< [s]
+  double maxDampingTime = 0.0;     ///< [s]
+  Integrator integrator = Integrator::EulerCromer;
+  std::size_t tetCount = 0;
+};
+StepCost stepCostOf(const MassSpringSetup& setup);
+
+/// Before a run of `duration` simulated seconds: a warning with the step count, the estimated
+/// wall time and the remedies when it needs more than a million steps or about a minute; empty
+/// otherwise.
+std::string longRunWarning(const StepCost& cost, double duration);
 
 /// True when the state must be declared diverged: `maxStretch` is the largest l / l0 (NaN if a
 /// position is not finite), `finiteVelocities` whether every velocity is finite.

@@ -6,6 +6,7 @@
 #include "softbody/massspring/explicit_integrators.h"
 #include "softbody/massspring/mass_spring_forces.h"
 #include "softbody/massspring/mass_spring_settings.h"
+#include "softbody/massspring/mass_spring_setup.h" // StepCost
 #include "softbody/massspring/strain_limit.h"
 #include "softbody/material/mass.h"
 
@@ -44,6 +45,7 @@ public:
   /// the stability estimate, truncated inverse masses.
   const std::vector<std::string>& warnings() const override { return Warnings; }
   const StepPlan& stepPlan() const override { return Plan; }
+  std::string longRunWarning(double duration) const override;
 
 private:
   class Forces;
@@ -58,6 +60,7 @@ private:
   DynamicState State;
   IntegratorScratch IntegratorWork;
   StrainLimitScratch StrainWork;
+  StepCost Cost; // what a run's length depends on (longRunWarning)
   double Step = 0.0;
   double StableStep = 0.0;
   double OmegaMax = 0.0;

@@ -55,6 +55,7 @@ public:
   const std::vector<std::string>& warnings() const override;
   /// Core's mass-spring plan timed on the GPU (GL_TIME_ELAPSED), plus the host<->GPU transfers.
   const StepPlan& stepPlan() const override;
+  std::string longRunWarning(double duration) const override;
 
   const std::string& glRenderer() const { return Renderer; } ///< GL_RENDERER of the context
   const std::string& glVersion() const { return Version; }   ///< GL_VERSION of the context
