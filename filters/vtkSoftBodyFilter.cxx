@@ -16,6 +16,7 @@
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkLogger.h"
 #include "vtkMath.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
@@ -35,6 +36,7 @@
 #endif
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -528,6 +530,22 @@ bool vtkSoftBodyFilter::AdvanceTo(double t)
     return status == softbody::AdvanceStatus::Completed && !aborted;
   };
 
+  // A run announced as long also says, in the log (visible in pvpython, where no progress bar
+  // is), how far it got and how long the rest will take: at most one line every 10 s.
+  const auto started = std::chrono::steady_clock::now();
+  auto lastLog = started;
+  auto logLongRunProgress = [&](int frame) {
+    const auto now = std::chrono::steady_clock::now();
+    if (internals.RunWarning.empty() || now - lastLog < std::chrono::seconds(10))
+    {
+      return;
+    }
+    lastLog = now;
+    const double elapsed = std::chrono::duration<double>(now - started).count();
+    const double left = elapsed / framesDone * (framesToRun - framesDone);
+    vtkLogF(INFO, "Soft Body: frame %d of %d simulated (t = %g s) in %.0f s; about %.0f s to go.",
+      frame, target, frame * this->P.FrameInterval, elapsed, left);
+  };
   for (int k = first + 1; k <= target; ++k)
   {
     if (this->CheckAbort() || !runTo(k * this->P.FrameInterval))
@@ -538,6 +556,7 @@ bool vtkSoftBodyFilter::AdvanceTo(double t)
     internals.SimulationFrame = k;
     internals.Cache.Insert(k, simulation.state());
     ++framesDone;
+    logLongRunProgress(k);
   }
   if (!onGrid)
   {
