@@ -9,6 +9,7 @@
 #include "vtkPoints.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -86,6 +87,19 @@ std::string vtkSoftBodyInputConversion::ConvertTets(
       const char* name = vtkCellTypes::GetClassNameFromTypeId(typeCount.first);
       msg << separator << typeCount.second << " " << (name ? name : "unknown cell type");
       separator = ", ";
+    }
+    // Links and vertices only: a particle body (Soft Body Voxelize, Soft Body Cloth), which the
+    // position-based methods simulate; remeshing would be the wrong advice.
+    const bool particleBody = std::all_of(otherTypes.begin(), otherTypes.end(), [](const auto& t) {
+      return t.first == VTK_LINE || t.first == VTK_POLY_LINE || t.first == VTK_VERTEX ||
+        t.first == VTK_POLY_VERTEX;
+    });
+    if (particleBody)
+    {
+      msg << "): a body of linked particles, as Soft Body Voxelize and Soft Body Cloth make. "
+             "Mass-Spring simulates tetrahedra only: choose Method XPBD (or PBD), which "
+             "simulates linked particles, or give Soft Body Voxelize OutputCells = Tetrahedra.";
+      return msg.str();
     }
     msg << "). The soft body simulates tetrahedral meshes only: mesh the body's surface with "
            "Soft Body's Tetrahedralize Surface (TetGen) filter (Extract Surface first), or split "

@@ -214,6 +214,18 @@ int main()
     vtkNew<vtkSoftBodyCloth> cloth;
     cloth->SetTotalMass(-1.0);
     refuses(cloth, "Cloth TotalMass -1", "TotalMass must be > 0 kg, got -1");
+
+    // A voxelized body (links) under the default Mass-Spring: the advice is the method that
+    // works, not remeshing; and XPBD then simulates it.
+    voxelize->SetDensity(1100.0);
+    vtkNew<vtkSoftBodyFilter> body;
+    body->SetInputConnection(voxelize->GetOutputPort());
+    refuses(body, "links under Mass-Spring", "choose Method XPBD (or PBD)");
+    vtkNew<sbtest::MessageCatcher> messages;
+    messages->Observe(body);
+    body->SetMethod(vtkSoftBodyFilter::XPBD);
+    SB_CHECK(body->UpdateTimeStep(0.04) == 1 && messages->Errors.empty(),
+      "the voxelized body runs under XPBD: " << messages->AllErrors());
   }
 
   return sbtest::Result("filter.bad_inputs");
