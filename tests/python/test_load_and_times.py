@@ -82,4 +82,15 @@ mesh_out = sbt.output_at(body, 0.5)
 sim_time = sbt.field_value(mesh_out, "SimulationTime")
 sbt.check(sim_time is not None and abs(sim_time - 0.5) < 1e-9,
           f"field data SimulationTime is 0.5 ({sim_time})")
+# Labels read well: acronyms and the possessive survive (ParaView would generate "X PBDLink
+# Compliance" and "Youngs Modulus" from the names), and the pvpython names stay the XML names.
+quality = SoftBodyMeshQuality(Input=reader)
+for proxy in (body, quality):
+    for name in proxy.ListProperties():
+        label = proxy.GetProperty(name).GetXMLLabel()
+        sbt.check(not label.startswith(("X PBD", "P BD")) and "Youngs" not in label,
+                  f"{proxy.GetXMLLabel()}.{name} has a readable label ({label!r})")
+sbt.check(body.GetProperty("XPBDLinkCompliance").GetXMLLabel() == "XPBD Link Compliance" and
+          quality.GetProperty("YoungsModulus").GetXMLLabel() == "Young's Modulus",
+          "XPBD Link Compliance and Young's Modulus are labelled as written")
 print("python.load_and_times passed")
