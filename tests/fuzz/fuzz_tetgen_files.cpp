@@ -7,6 +7,8 @@
 #include "softbody/common/errors.h"
 #include "softbody/mesh/mesh_io.h"
 
+#include "fuzz_support.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -85,16 +87,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   {
     softbody::MeshFileInfo info;
     const softbody::TetMesh mesh = softbody::readTetGenMesh(tempDir() + "/m.ele", &info);
-    for (const softbody::Tet& tet : mesh.tets)
-    {
-      for (std::int32_t v : tet)
-      {
-        if (v < 0 || static_cast<std::size_t>(v) >= mesh.points.size())
-        {
-          std::abort(); // the reader returned an index it did not check
-        }
-      }
-    }
+    softbody::fuzz::abortOnIndexOutOfRange(mesh);
   }
   catch (const softbody::InvalidInputError&)
   {
