@@ -3,6 +3,7 @@
 #include "vtkSoftBodyArrays.h"
 #include "vtkSoftBodyDistribution.h"
 #include "vtkSoftBodyFrameCache.h"
+#include "vtkSoftBodyImplicitReport.h"
 #include "vtkSoftBodyInputConversion.h"
 #include "vtkSoftBodyPbdAdapter.h"
 #include "vtkSoftBodySettings.h"
@@ -637,6 +638,11 @@ void vtkSoftBodyFilter::FillMesh(
     this->Internals->PbdAdapter.AddBrokenCells(*pbd, output);
     vtkSoftBodyPbdAdapter::AddConvergenceFields(*pbd, output);
   }
+  const softbody::ImplicitConvergence* implicit = this->ImplicitSolveReport();
+  if (implicit)
+  {
+    vtkSoftBodyImplicitReport::AddFields(*implicit, field);
+  }
 
   // StageSeconds is parallel to Plan: each planned stage's accumulated wall time.
   std::vector<std::string> plan;
@@ -656,6 +662,16 @@ void vtkSoftBodyFilter::FillMesh(
   if (!this->Internals->RunWarning.empty())
   {
     warnings.push_back(this->Internals->RunWarning);
+  }
+  if (implicit)
+  {
+    const std::string unconverged = vtkSoftBodyImplicitReport::Warning(*implicit,
+      softbody::integratorName(vtkSoftBodySettings::Integrator(this->P.Integrator)),
+      this->P.ImplicitMaxIterations);
+    if (!unconverged.empty())
+    {
+      warnings.push_back(unconverged);
+    }
   }
   for (const std::string& warning : vtkSoftBodySettings::Warnings(this->P))
   {
@@ -700,6 +716,19 @@ void vtkSoftBodyFilter::FillConvergence(vtkTable* output)
   {
     vtkSoftBodyPbdAdapter::FillConvergenceTable(*pbd, output);
   }
+  else if (const softbody::ImplicitConvergence* implicit = this->ImplicitSolveReport())
+  {
+    vtkSoftBodyImplicitReport::FillTable(*implicit, output);
+  }
+}
+
+//------------------------------------------------------------------------------
+const softbody::ImplicitConvergence* vtkSoftBodyFilter::ImplicitSolveReport() const
+{
+  // Only the CPU mass-spring stepper has implicit integrators (the GPU falls back to it).
+  const auto* massSpring =
+    dynamic_cast<const softbody::MassSpringSimulation*>(this->Internals->Simulation.get());
+  return massSpring ? massSpring->implicitConvergence() : nullptr;
 }
 
 //------------------------------------------------------------------------------

@@ -47,6 +47,10 @@ class vtkPolyData;
 class vtkTable;
 struct vtkSoftBodyCoreSettings;
 class vtkUnstructuredGrid;
+namespace softbody
+{
+struct ImplicitConvergence;
+}
 
 class SOFTBODYFILTERS_EXPORT vtkSoftBodyFilter : public vtkUnstructuredGridAlgorithm
 {
@@ -77,7 +81,9 @@ public:
     EULER = 0,
     MIDPOINT = 1,
     VERLET = 2,
-    EULER_CROMER = 3
+    EULER_CROMER = 3,
+    IMPLICIT_EULER = 4,
+    PROJECTIVE_DYNAMICS = 5
   };
   enum MaterialModeType
   {
@@ -111,6 +117,8 @@ public:
     int Device = DEVICE_CPU;
     int Integrator = EULER_CROMER;
     double TimeStep = 0.0;
+    double ImplicitTolerance = 1.0e-3;
+    int ImplicitMaxIterations = 30;
     double EndTime = 3.0;
     double FrameInterval = 0.04;
     double Gravity[3] = { 0.0, 0.0, -9.81 };
@@ -239,9 +247,22 @@ public:
 
   ///@{
   /**
-   * Integrator: EULER, MIDPOINT, VERLET or EULER_CROMER (default, symplectic and cheap).
+   * Integrator: EULER, MIDPOINT, VERLET or EULER_CROMER (default, symplectic and cheap), or
+   * the implicit IMPLICIT_EULER (Newton + PCG) and PROJECTIVE_DYNAMICS (prefactored
+   * local/global iterations), stable at any step (Mass-Spring on the CPU only).
    */
   vtkSoftBodyParameterMacro(Integrator, int);
+  ///@}
+
+  ///@{
+  /**
+   * Implicit integrators: the step's equations count as solved when the residual acceleration
+   * is below ImplicitTolerance times the reference (gravity, or the speed over the step) (> 0;
+   * 0 allowed for Projective Dynamics: always ImplicitMaxIterations iterations).
+   * ImplicitMaxIterations: Newton or local/global iterations per step (>= 1).
+   */
+  vtkSoftBodyParameterMacro(ImplicitTolerance, double);
+  vtkSoftBodyParameterMacro(ImplicitMaxIterations, int);
   ///@}
 
   ///@{
@@ -391,6 +412,8 @@ private:
   /// `withSurface`: a Surface input is bound (its binding warning joins Warnings).
   void FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, bool withSurface);
   void FillConvergence(vtkTable* output);
+  /// The implicit integrators' solve report; null for explicit integrators and PBD.
+  const softbody::ImplicitConvergence* ImplicitSolveReport() const;
   void FillParticles(vtkUnstructuredGrid* mesh, vtkPolyData* output);
 
   std::unique_ptr<vtkInternals> Internals;

@@ -42,6 +42,11 @@ void ConvertMassSpring(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSe
   softbody::SceneSettings& scene = settings.Scene;
   scene.integrator = vtkSoftBodySettings::Integrator(p.Integrator);
   scene.timeStep = p.TimeStep;
+  if (softbody::isImplicit(scene.integrator))
+  {
+    scene.implicit.tolerance = p.ImplicitTolerance;
+    scene.implicit.maxIterations = p.ImplicitMaxIterations;
+  }
   scene.gravity = ToVec3(p.Gravity);
   scene.floorEnabled = p.Floor != 0;
   if (scene.floorEnabled)
@@ -137,8 +142,14 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
 //------------------------------------------------------------------------------
 softbody::Integrator vtkSoftBodySettings::Integrator(int integrator)
 {
-  switch (Choice("Integrator", integrator, 4, "0 (Euler), 1 (Midpoint), 2 (Verlet), 3 (Euler-Cromer)"))
+  switch (Choice("Integrator", integrator, 6,
+    "0 (Euler), 1 (Midpoint), 2 (Verlet), 3 (Euler-Cromer), 4 (Implicit Euler), 5 (Projective "
+    "Dynamics)"))
   {
+    case vtkSoftBodyFilter::IMPLICIT_EULER:
+      return softbody::Integrator::ImplicitEuler;
+    case vtkSoftBodyFilter::PROJECTIVE_DYNAMICS:
+      return softbody::Integrator::ProjectiveDynamics;
     case vtkSoftBodyFilter::EULER:
       return softbody::Integrator::Euler;
     case vtkSoftBodyFilter::MIDPOINT:

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 
 namespace softbody::gpu
 {
@@ -236,6 +237,10 @@ void MassSpringDevice::integrate(double h, double kick)
       runUpdate(Kernels.kickDrift, {},
         { { "kick", Scene.integrator == Integrator::Verlet ? kick : h }, { "h", h } });
       break;
+    case Integrator::ImplicitEuler:
+    case Integrator::ProjectiveDynamics:
+      // Refused in tryCreateGpuMassSpring (the filter then runs them on the CPU).
+      throw std::logic_error("the GPU stepper has no implicit integrator");
   }
 }
 

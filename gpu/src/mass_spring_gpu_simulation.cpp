@@ -177,6 +177,13 @@ const StepPlan& MassSpringGpuSimulation::stepPlan() const
 std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(
   const BodyDescription& body, const SceneSettings& scene, std::string& whyNot)
 {
+  if (isImplicit(scene.integrator))
+  {
+    // Implicit steps need a sparse linear solve per iteration; the GPU backend is explicit.
+    whyNot = std::string("the GPU backend has only the explicit integrators, and ") +
+      integratorName(scene.integrator) + " is implicit.";
+    return nullptr;
+  }
   try
   {
     return std::make_unique<MassSpringGpuSimulation>(body, scene);

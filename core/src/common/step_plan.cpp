@@ -13,6 +13,8 @@ const char* stageName(Stage stage)
       return "forces";
     case Stage::Integrate:
       return "integrate";
+    case Stage::LinearSolve:
+      return "linear solve";
     case Stage::StrainLimit:
       return "strain limit";
     case Stage::Floor:

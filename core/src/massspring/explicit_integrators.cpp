@@ -1,5 +1,7 @@
 #include "softbody/massspring/explicit_integrators.h"
 
+#include <stdexcept>
+
 #include "softbody/common/parallel.h"
 
 namespace softbody
@@ -70,6 +72,10 @@ const char* integratorName(Integrator integrator)
       return "Verlet";
     case Integrator::EulerCromer:
       return "Euler-Cromer";
+    case Integrator::ImplicitEuler:
+      return "Implicit Euler";
+    case Integrator::ProjectiveDynamics:
+      return "Projective Dynamics";
   }
   return "unknown";
 }
@@ -91,6 +97,9 @@ void integrateStep(Integrator integrator, double h, const AccelerationEvaluator&
     case Integrator::EulerCromer:
       kickDrift(h, h, evaluator, state, scratch);
       break;
+    case Integrator::ImplicitEuler:
+    case Integrator::ProjectiveDynamics:
+      throw std::logic_error("integrateStep: implicit integrators have their own steppers");
   }
   state.time += h;
   state.previousStep = h;

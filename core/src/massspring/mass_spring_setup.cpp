@@ -6,6 +6,7 @@
 #include "softbody/massspring/stability.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace softbody
@@ -29,6 +30,17 @@ void validateScene(const SceneSettings& scene)
   }
   check::atLeast("StrainLimitIterations", scene.strainLimitIterations, 1);
   check::inRange("stability safety factor", scene.stabilitySafety, 0.0, 1.0, true, false);
+  if (isImplicit(scene.integrator))
+  {
+    check::nonNegative("ImplicitTolerance", scene.implicit.tolerance, "", "Projective Dynamics: "
+      "a fixed iteration count");
+    if (scene.integrator == Integrator::ImplicitEuler && !(scene.implicit.tolerance > 0.0))
+    {
+      throw InvalidInputError("ImplicitTolerance must be > 0 for Implicit Euler (Newton stops on "
+        "it), got " + check::quote(scene.implicit.tolerance) + ".");
+    }
+    check::atLeast("ImplicitMaxIterations", scene.implicit.maxIterations, 1);
+  }
 }
 
 /// Step size from the stability estimate (auto mode) or the user's choice, with warnings.
@@ -37,6 +49,15 @@ void chooseStep(MassSpringSetup& s)
   const SceneSettings& scene = s.scene;
   const ElementConstants& c = s.constants;
   s.omegaMax = highestFrequencyBound(s.topology, c, s.masses.inverseMass, s.mesh.points);
+  if (isImplicit(scene.integrator))
+  {
+    // Stable at any step: automatic means one step per advance() call (per frame in the
+    // filter). No stability estimate applies.
+    s.step = scene.timeStep > 0.0 ? scene.timeStep : std::numeric_limits<double>::infinity();
+    s.stableStep = 0.0;
+    s.undampedStableStep = 0.0;
+    return;
+  }
   s.stableStep = stableTimeStep(scene.integrator, s.omegaMax, c.minDampingTime, c.maxDampingTime);
   const double symplecticStep =
     stableTimeStep(Integrator::EulerCromer, s.omegaMax, c.minDampingTime, c.maxDampingTime);

@@ -53,6 +53,24 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
   StableStep = setup.stableStep;
   OmegaMax = setup.omegaMax;
   Warnings = std::move(setup.warnings);
+  if (Scene.integrator == Integrator::ImplicitEuler)
+  {
+    Newton = std::make_unique<ImplicitEulerStepper>(Topo, Constants, Masses, Scene);
+  }
+  else if (Scene.integrator == Integrator::ProjectiveDynamics)
+  {
+    Projective =
+      std::make_unique<ProjectiveDynamicsStepper>(Topo, Constants, Masses, Mesh.points, Scene);
+  }
+}
+
+const ImplicitConvergence* MassSpringSimulation::implicitConvergence() const
+{
+  if (Newton)
+  {
+    return &Newton->convergence();
+  }
+  return Projective ? &Projective->convergence() : nullptr;
 }
 
 std::string MassSpringSimulation::longRunWarning(double duration) const
@@ -75,17 +93,51 @@ std::vector<double> MassSpringSimulation::tetVolumeRatios() const
   return softbody::tetVolumeRatios(Topo.tets, Constants.restVolume, State.positions);
 }
 
+void MassSpringSimulation::integrateExplicit(double h)
+{
+  // The integrator evaluates the forces (timed as Stage::Forces); Integrate is its own time.
+  const double forcesBefore = Plan.seconds(Stage::Forces);
+  double integrateAndForces = 0.0;
+  {
+    ScopedStageTimer timer(integrateAndForces);
+    integrateStep(Scene.integrator, h, Forces(*this), State, IntegratorWork);
+  }
+  Plan.seconds(Stage::Integrate) += integrateAndForces - (Plan.seconds(Stage::Forces) - forcesBefore);
+}
+
+void MassSpringSimulation::integrateImplicit(double h)
+{
+  // The stepper times its element passes (Forces) and solves (LinearSolve); the rest of its
+  // time (vector updates, line-search bookkeeping) is Integrate.
+  const double before = Plan.seconds(Stage::Forces) + Plan.seconds(Stage::LinearSolve);
+  double total = 0.0;
+  {
+    ScopedStageTimer timer(total);
+    if (Newton)
+    {
+      Newton->step(h, State, Plan);
+    }
+    else
+    {
+      Projective->step(h, State, Plan);
+    }
+  }
+  Plan.seconds(Stage::Integrate) +=
+    total - (Plan.seconds(Stage::Forces) + Plan.seconds(Stage::LinearSolve) - before);
+  State.time += h;
+  State.previousStep = h;
+  ++State.stepCount;
+}
+
 void MassSpringSimulation::stepOnce(double h)
 {
+  if (isImplicit(Scene.integrator))
   {
-    // The integrator evaluates the forces (timed as Stage::Forces); Integrate is its own time.
-    const double forcesBefore = Plan.seconds(Stage::Forces);
-    double integrateAndForces = 0.0;
-    {
-      ScopedStageTimer timer(integrateAndForces);
-      integrateStep(Scene.integrator, h, Forces(*this), State, IntegratorWork);
-    }
-    Plan.seconds(Stage::Integrate) += integrateAndForces - (Plan.seconds(Stage::Forces) - forcesBefore);
+    integrateImplicit(h);
+  }
+  else
+  {
+    integrateExplicit(h);
   }
   if (Plan.runs(Stage::StrainLimit))
   {
@@ -95,7 +147,7 @@ void MassSpringSimulation::stepOnce(double h)
       Scene.strainLimitIterations, Scene.integrator == Integrator::Verlet, h, State.positions,
       State.velocities, StrainWork);
   }
-  if (Plan.runs(Stage::Floor))
+  if (Plan.runs(Stage::Floor) && !isImplicit(Scene.integrator)) // implicit: inside the solve
   {
     ScopedStageTimer timer(Plan, Stage::Floor);
     resolveFloorContacts(Scene.floor, Masses.inverseMass, State.positions, State.velocities);

@@ -98,6 +98,13 @@ double amplificationRadius(Integrator integrator, double h, double omega, double
     case Integrator::Verlet: // leapfrog with a constant step is Euler-Cromer on (x, v_{-1/2})
     case Integrator::EulerCromer: // v' = v + h(-w^2 x - c v), x' = x + h v'
       return spectralRadius2x2(1.0 - h * h * w2, h * (1.0 - h * c), -h * w2, 1.0 - h * c);
+    case Integrator::ImplicitEuler:
+    case Integrator::ProjectiveDynamics: // converged, both solve the backward-Euler equations
+    {
+      // x' = x + h v', v' = v + h(-w^2 x' - c v'): A = [[1 + hc, h], [-h w^2, 1]] / D.
+      const double d = 1.0 + h * c + h * h * w2;
+      return spectralRadius2x2((1.0 + h * c) / d, h / d, -h * w2 / d, 1.0 / d);
+    }
     case Integrator::Midpoint:
     {
       // A = I + hJ + (hJ)^2 / 2 with J = [[0, 1], [-w^2, -c]], J^2 = [[-w^2, -c], [c w^2, c^2 - w^2]].

@@ -1,6 +1,7 @@
 // The only two parallel patterns core uses, in one place:
 //   parallelFor(count, grain, body)      body(i) for every i; each i is written by one task
 //   parallelReduce(count, grain, init, map, combine)   an order-independent reduction
+//   parallelSum(count, term)             a floating-point sum with a fixed summation order
 // Kernels stay plain loops over indices and never see the threading library.
 //
 // The normal backend is TBB. ThreadSanitizer cannot see the synchronization inside Debian's
@@ -11,7 +12,9 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cstddef>
+#include <vector>
 
 #ifdef SOFTBODY_PARALLEL_STD_THREADS
 #include <algorithm>
@@ -125,5 +128,31 @@ T parallelReduce(std::size_t count, std::size_t grain, T identity, const Map& ma
 }
 
 #endif
+
+/// Sum of term(i) over [0, count) that is bitwise the same for any thread count: the terms are
+/// summed in fixed blocks of kSumBlock (in parallel), then the block sums in order. A plain
+/// parallelReduce would add in whatever order the scheduler splits the range.
+template <typename Term>
+double parallelSum(std::size_t count, const Term& term)
+{
+  constexpr std::size_t kSumBlock = 2048;
+  const std::size_t blocks = (count + kSumBlock - 1) / kSumBlock;
+  std::vector<double> partial(blocks, 0.0);
+  parallelFor(blocks, 1, [&](std::size_t b) {
+    double sum = 0.0;
+    const std::size_t end = std::min(count, (b + 1) * kSumBlock);
+    for (std::size_t i = b * kSumBlock; i < end; ++i)
+    {
+      sum += term(i);
+    }
+    partial[b] = sum;
+  });
+  double total = 0.0;
+  for (double value : partial)
+  {
+    total += value;
+  }
+  return total;
+}
 
 } // namespace softbody

@@ -18,7 +18,9 @@ enum class Stage
 {
   // Mass-spring (CPU and GPU)
   Forces,      ///< spring (and tet volume) forces; timed inside the integrator's evaluations
-  Integrate,   ///< the explicit integrator, net of its force evaluations
+  Integrate,   ///< the integrator, net of its force evaluations (and linear solves)
+  LinearSolve, ///< implicit integrators: PCG (Implicit Euler) or Cholesky solves (Projective
+               ///< Dynamics, with its factorization when the step size changes)
   StrainLimit, ///< Provot's strain limiting after the step
   Floor,       ///< floor contact after the step
   // PBD / XPBD

@@ -16,10 +16,19 @@ enum class Integrator
   Euler,       ///< x += h v(t);        v += h a(t)                 first order, needs damping
   Midpoint,    ///< RK2 through the midpoint state                  second order
   Verlet,      ///< Stoermer-Verlet in leapfrog form (see below)    second order, symplectic
-  EulerCromer  ///< v += h a(t);        x += h v(t+h)               first order, symplectic
+  EulerCromer, ///< v += h a(t);        x += h v(t+h)               first order, symplectic
+  // Implicit (implicit_euler.h, projective_dynamics.h): stable at any step, solved per step.
+  ImplicitEuler,     ///< backward Euler by Newton's method with PCG   first order, dissipative
+  ProjectiveDynamics ///< backward Euler by local/global iterations (Liu et al. 2013)
 };
 
 const char* integratorName(Integrator integrator);
+
+/// True for the integrators that solve a system per step (and have no stability limit).
+inline bool isImplicit(Integrator integrator)
+{
+  return integrator == Integrator::ImplicitEuler || integrator == Integrator::ProjectiveDynamics;
+}
 
 /// Computes accelerations [m/s^2] for given positions and velocities.
 class AccelerationEvaluator
@@ -38,7 +47,8 @@ struct IntegratorScratch
   std::vector<Vec3> midVelocities;
 };
 
-/// Advances `state` by h (positions, velocities, time, stepCount, previousStep).
+/// Advances `state` by h (positions, velocities, time, stepCount, previousStep) with an
+/// explicit integrator (the implicit ones have their own steppers).
 void integrateStep(Integrator integrator, double h, const AccelerationEvaluator& evaluator,
   DynamicState& state, IntegratorScratch& scratch);
 

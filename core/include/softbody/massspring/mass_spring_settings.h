@@ -12,10 +12,26 @@
 namespace softbody
 {
 
+/// How the implicit integrators solve each step (see implicit_euler.h, projective_dynamics.h).
+struct ImplicitSettings
+{
+  /// The step's equations hold when the mass-weighted RMS residual acceleration is below
+  /// tolerance times the reference (gravity, or the step's initial residual if larger).
+  /// Projective Dynamics: 0 = always run maxIterations local/global iterations.
+  double tolerance = 1.0e-3;
+  /// Newton iterations (Implicit Euler) or local/global iterations (Projective Dynamics).
+  int maxIterations = 30;
+  /// Projective Dynamics: (s, y) pairs of the L-BFGS acceleration (Liu et al. 2017), which
+  /// uses the prefactored matrix as its initial Hessian; 0 = plain local/global iterations.
+  int projectiveHistory = 5;
+  bool operator==(const ImplicitSettings&) const = default;
+};
+
 struct SceneSettings
 {
   Integrator integrator = Integrator::EulerCromer;
-  /// [s]; 0 = automatic: the largest stable step estimate times stabilitySafety.
+  /// [s]; 0 = automatic: explicit integrators take the largest stable step estimate times
+  /// stabilitySafety; implicit ones one step per advance() call (the filter: one per frame).
   double timeStep = 0.0;
   double stabilitySafety = 0.9; ///< fraction of the estimated stable step used in auto mode
   Vec3 gravity{ 0.0, 0.0, -9.81 }; ///< [m/s^2]
@@ -27,6 +43,7 @@ struct SceneSettings
   InvertedTetPolicy invertedTets = InvertedTetPolicy::Reorient;
   /// A state is declared exploded when a spring grows past this factor of its rest length.
   double divergenceStretch = 100.0;
+  ImplicitSettings implicit;
   bool operator==(const SceneSettings&) const = default;
 };
 

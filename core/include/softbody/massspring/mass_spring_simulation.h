@@ -4,12 +4,15 @@
 
 #include "softbody/common/simulation.h"
 #include "softbody/massspring/explicit_integrators.h"
+#include "softbody/massspring/implicit_euler.h"
 #include "softbody/massspring/mass_spring_forces.h"
 #include "softbody/massspring/mass_spring_settings.h"
 #include "softbody/massspring/mass_spring_setup.h" // StepCost
+#include "softbody/massspring/projective_dynamics.h"
 #include "softbody/massspring/strain_limit.h"
 #include "softbody/material/mass.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,6 +24,9 @@ class MassSpringSimulation final : public Simulation
 public:
   /// Validates and prepares the body; throws InvalidInputError with a user-facing message.
   MassSpringSimulation(BodyDescription body, const SceneSettings& scene);
+  // The implicit steppers keep references to this object's topology and constants.
+  MassSpringSimulation(const MassSpringSimulation&) = delete;
+  MassSpringSimulation& operator=(const MassSpringSimulation&) = delete;
 
   AdvanceStatus advance(double endTime, const ProgressCallback& progress = {}) override;
   const DynamicState& state() const override { return State; }
@@ -47,9 +53,16 @@ public:
   const StepPlan& stepPlan() const override { return Plan; }
   std::string longRunWarning(double duration) const override;
 
+  /// Convergence of the implicit integrators' solves; null for the explicit ones.
+  const ImplicitConvergence* implicitConvergence() const;
+  /// The Projective Dynamics stepper (factorization facts); null for other integrators.
+  const ProjectiveDynamicsStepper* projectiveDynamics() const { return Projective.get(); }
+
 private:
   class Forces;
   void stepOnce(double h);
+  void integrateExplicit(double h);
+  void integrateImplicit(double h);
   void checkDivergence() const;
 
   SceneSettings Scene;
@@ -68,6 +81,8 @@ private:
   mutable StepPlan Plan; // stages and their timers (timed from const force evaluations)
   mutable ForceScratch ForceWork;
   mutable std::vector<Vec3> ForceBuffer;
+  std::unique_ptr<ImplicitEulerStepper> Newton;             // Integrator ImplicitEuler
+  std::unique_ptr<ProjectiveDynamicsStepper> Projective;    // Integrator ProjectiveDynamics
 };
 
 } // namespace softbody

@@ -1,0 +1,26 @@
+// What the implicit integrators report about their solves: the convergence of the last step
+// (for the filter's Convergence output, like PBD's) and totals since the simulation began.
+#pragma once
+
+#include <vector>
+
+namespace softbody
+{
+
+struct ImplicitConvergence
+{
+  // The last step
+  int iterations = 0;        ///< Newton or local/global iterations it ran
+  double residual = 0.0;     ///< relative residual at its end (residual / reference)
+  bool converged = true;     ///< residual <= tolerance (always true with tolerance 0)
+  /// Relative residual before the first iteration and after each one.
+  std::vector<double> residualHistory;
+  // Totals
+  unsigned long long steps = 0;
+  unsigned long long unconvergedSteps = 0; ///< steps that ended at maxIterations above tolerance
+  unsigned long long iterationsTotal = 0;
+  unsigned long long linearIterationsTotal = 0; ///< CG iterations (Implicit Euler)
+  unsigned long long lineSearchHalvings = 0;    ///< step shortenings (Implicit Euler)
+};
+
+} // namespace softbody

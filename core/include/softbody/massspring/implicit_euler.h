@@ -1,0 +1,39 @@
+// Backward (implicit) Euler for the mass-spring model: each step minimizes the incremental
+// potential (incremental_potential.h) by Newton's method (implicit_solve.h: line search, floor
+// active set). Each Newton iteration solves H d = -grad Phi with block-Jacobi preconditioned
+// conjugate gradients (block_pcg.h) on the assembled PSD-projected Hessian, to a relative
+// accuracy that tightens as Newton converges (eta = min(0.1, r / r_ref): quadratic convergence
+// where the Hessian is exact) but never much below what the tolerance needs. Stable at any
+// step, first order; its numerical dissipation grows with h (it damps the modes above ~1/h).
+#pragma once
+
+#include "softbody/massspring/block_pcg.h"
+#include "softbody/massspring/implicit_solve.h"
+
+namespace softbody
+{
+
+class ImplicitEulerStepper
+{
+public:
+  ImplicitEulerStepper(const Topology& topology, const ElementConstants& constants,
+    const PointMasses& masses, const SceneSettings& scene);
+
+  /// One backward-Euler step of h (positions and velocities; time and counters are the
+  /// caller's). Times Stage::Forces (evaluations and assembly) and Stage::LinearSolve.
+  void step(double h, DynamicState& state, StepPlan& plan);
+
+  const ImplicitConvergence& convergence() const { return Convergence; }
+  /// CG iteration limit per Newton iteration.
+  static constexpr int kMaxLinearIterations = 2000;
+
+private:
+  IncrementalPotential Potential;
+  ImplicitStepSolver Solver;
+  BlockSparseMatrix Hessian;
+  PcgScratch LinearWork;
+  std::vector<Vec3> Rhs;
+  ImplicitConvergence Convergence;
+};
+
+} // namespace softbody

@@ -1,0 +1,78 @@
+// The per-step minimization both implicit integrators share: minimize the incremental
+// potential (incremental_potential.h) from the explicit prediction, along the descent
+// directions the integrator supplies (Newton + PCG, or Projective Dynamics' prefactored solve),
+// with a backtracking line search on Phi, until the residual acceleration is below the
+// tolerance. The floor is an inequality handled inside the solve by an active set: points that
+// would end below it are put on it and slide along it (the motion filter), and points the floor
+// would have to pull down are released, until the set settles; so the floor holds exactly and
+// the rest of the body answers it in the same step, instead of being crushed by a projection
+// afterwards. Contact is frictionless and inelastic, as the explicit integrators' floor.
+#pragma once
+
+#include "softbody/common/state.h"
+#include "softbody/common/step_plan.h"
+#include "softbody/massspring/implicit_convergence.h"
+#include "softbody/massspring/incremental_potential.h"
+#include "softbody/massspring/mass_spring_settings.h"
+#include "softbody/massspring/motion_filter.h"
+
+#include <functional>
+
+namespace softbody
+{
+
+class ImplicitStepSolver
+{
+public:
+  /// What a direction rule is given: the iterate, Phi's gradient there, the filter, whether
+  /// this is the first iteration since the step began or the contact set changed (history
+  /// from before must be dropped), and the relative residual and goal (so a rule solves no
+  /// more precisely than needed).
+  struct Iterate
+  {
+    const std::vector<Vec3>& x;
+    const std::vector<Vec3>& gradient;
+    const MotionFilter& filter;
+    bool restart;
+    double relativeResidual;
+    double relativeGoal;
+  };
+  /// Fills `direction` with a descent direction of Phi, filtered by the filter. Returns the
+  /// linear iterations it ran (0 if none).
+  using DirectionRule = std::function<int(const Iterate& at, std::vector<Vec3>& direction)>;
+
+  enum class LineSearch
+  {
+    Armijo,  ///< sufficient decrease (Newton's directions come with a model of Phi)
+    Decrease ///< any decrease (Projective Dynamics)
+  };
+
+  ImplicitStepSolver(IncrementalPotential& potential, const SceneSettings& scene,
+    LineSearch lineSearch);
+
+  /// One step of h: positions and velocities of `state` (time and counters are the caller's).
+  /// Element passes are timed as Stage::Forces; the rule's time as Stage::LinearSolve.
+  void step(double h, DynamicState& state, StepPlan& plan, const DirectionRule& direction,
+    ImplicitConvergence& convergence);
+
+private:
+  /// Newton-type iterations on the current contact set; false when Phi could not decrease.
+  void iterate(StepPlan& plan, const DirectionRule& direction, ImplicitConvergence& c);
+  bool Restart = true;
+  void evaluateAtX();
+  /// Puts free points below the floor on it; releases held points the floor would pull.
+  /// Returns how many changed.
+  std::size_t updateContacts(bool release);
+
+  IncrementalPotential& Potential;
+  ImplicitSettings Settings;
+  LineSearch Search;
+  double GravityNorm;
+  bool Floor;
+  Vec3 FloorOrigin;
+  MotionFilter Filter;
+  double Reference = 1.0, Goal = 0.0, Energy = 0.0, Residual = 0.0;
+  std::vector<Vec3> X, Trial, Gradient, TrialGradient, Filtered, Direction;
+};
+
+} // namespace softbody

@@ -1,0 +1,75 @@
+#include "vtkSoftBodyImplicitReport.h"
+
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkTable.h>
+
+#include <sstream>
+
+//------------------------------------------------------------------------------
+void vtkSoftBodyImplicitReport::AddFields(
+  const softbody::ImplicitConvergence& c, vtkFieldData* field)
+{
+  vtkNew<vtkIntArray> iterations;
+  iterations->SetName("Iterations");
+  iterations->InsertNextValue(c.iterations);
+  field->AddArray(iterations);
+  vtkNew<vtkDoubleArray> residual;
+  residual->SetName("Residual");
+  residual->InsertNextValue(c.residual);
+  field->AddArray(residual);
+  vtkNew<vtkIdTypeArray> unconverged;
+  unconverged->SetName("UnconvergedSteps");
+  unconverged->InsertNextValue(static_cast<vtkIdType>(c.unconvergedSteps));
+  field->AddArray(unconverged);
+  vtkNew<vtkIdTypeArray> linear;
+  linear->SetName("LinearIterations");
+  linear->InsertNextValue(static_cast<vtkIdType>(c.linearIterationsTotal));
+  field->AddArray(linear);
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftBodyImplicitReport::FillTable(
+  const softbody::ImplicitConvergence& c, vtkTable* output)
+{
+  vtkNew<vtkIntArray> iteration;
+  iteration->SetName("Iteration");
+  vtkNew<vtkDoubleArray> residual;
+  residual->SetName("Residual");
+  for (std::size_t k = 0; k < c.residualHistory.size(); ++k)
+  {
+    iteration->InsertNextValue(static_cast<int>(k));
+    residual->InsertNextValue(c.residualHistory[k]);
+  }
+  output->AddColumn(iteration);
+  output->AddColumn(residual);
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodyImplicitReport::Warning(
+  const softbody::ImplicitConvergence& c, const char* integrator, int maxIterations)
+{
+  if (c.unconvergedSteps == 0)
+  {
+    return {};
+  }
+  std::ostringstream message;
+  message << c.unconvergedSteps << " of " << c.steps << " " << integrator
+          << " steps stopped at ImplicitMaxIterations = " << maxIterations
+          << " above ImplicitTolerance (last residual " << c.residual
+          << "): those steps are not accurate. Raise ImplicitMaxIterations";
+  if (std::string(integrator) == "Projective Dynamics")
+  {
+    message << ", or use Implicit Euler, whose Newton iterations handle stiff materials "
+               "(Projective Dynamics converges slowly on them)";
+  }
+  else
+  {
+    message << " or take smaller steps (TimeStep)";
+  }
+  message << ".";
+  return message.str();
+}
