@@ -1,6 +1,7 @@
 #include "softbody/massspring/implicit_euler.h"
 
 #include "softbody/common/parallel.h"
+#include "softbody/common/stepping.h"
 
 #include <algorithm>
 
@@ -26,7 +27,11 @@ void ImplicitEulerStepper::step(double h, DynamicState& state, StepPlan& plan)
   const auto newtonDirection = [&](const ImplicitStepSolver::Iterate& at,
                                  std::vector<Vec3>& direction) {
     const double residual = at.relativeResidual, goal = at.relativeGoal;
-    Potential.assembleHessian(Hessian);
+    {
+      ScopedStageTimer timer(at.plan, Stage::Forces);
+      Potential.assembleHessian(at.x, Hessian);
+    }
+    ScopedStageTimer timer(at.plan, Stage::LinearSolve);
     // Solve only as well as this iteration can use: loosely far from the solution, tightly
     // near it (eta ~ r keeps Newton quadratic), never much below what the tolerance needs.
     const double forcing = std::min(kMaxForcing, std::max(residual, 0.5 * goal / residual));

@@ -14,13 +14,15 @@ namespace
 
 constexpr double kArmijo = 1e-4; // sufficient decrease of Phi along a Newton direction
 constexpr int kMaxHalvings = 40; // 2^-40: the direction is useless long before
-/// Contact-set rounds per step: each re-solves from the last answer; two suffice unless
-/// contacts flicker between release and penetration.
-constexpr int kMaxContactRounds = 8;
 
 double dot(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
 {
   return parallelSum(a.size(), [&](std::size_t i) { return a[i].dot(b[i]); });
+}
+
+std::size_t sum(std::size_t a, std::size_t b)
+{
+  return a + b;
 }
 
 } // namespace
@@ -37,108 +39,126 @@ ImplicitStepSolver::ImplicitStepSolver(
   Filter.normal = scene.floor.normal.normalized();
 }
 
-void ImplicitStepSolver::evaluateAtX()
+void ImplicitStepSolver::filterGradient()
 {
-  Energy = Potential.evaluate(X, Gradient);
   Filtered.resize(Gradient.size());
   parallelFor(Gradient.size(), 4096, [&](std::size_t i) { Filtered[i] = Filter.apply(i, Gradient[i]); });
   Residual = Potential.residualAcceleration(Filtered);
 }
 
-std::size_t ImplicitStepSolver::updateContacts(bool release)
+void ImplicitStepSolver::evaluateAtX()
+{
+  Energy = Potential.evaluate(X, Gradient);
+  filterGradient();
+}
+
+std::size_t ImplicitStepSolver::capture(std::vector<Vec3>& x, std::vector<PointMotion>& motion) const
+{
+  return parallelReduce(
+    x.size(), 4096, std::size_t{ 0 },
+    [&](std::size_t i) -> std::size_t {
+      const double depth = (x[i] - FloorOrigin).dot(Filter.normal);
+      if (motion[i] != PointMotion::Fixed && depth < 0.0)
+      {
+        x[i] -= depth * Filter.normal;
+        const bool added = motion[i] == PointMotion::Free;
+        motion[i] = PointMotion::OnPlane;
+        return added ? 1 : 0;
+      }
+      return 0;
+    },
+    sum);
+}
+
+std::size_t ImplicitStepSolver::release()
 {
   return parallelReduce(
     X.size(), 4096, std::size_t{ 0 },
     [&](std::size_t i) -> std::size_t {
-      if (Filter.motion[i] == PointMotion::OnPlane)
+      // Held, and Phi drops by lifting it (its gradient points into the floor): let go.
+      if (Filter.motion[i] == PointMotion::OnPlane && Gradient[i].dot(Filter.normal) < 0.0)
       {
-        // Held: Phi would drop by lifting it (its gradient points into the floor) -> let go.
-        if (release && Gradient[i].dot(Filter.normal) < 0.0)
-        {
-          Filter.motion[i] = PointMotion::Free;
-          return 1;
-        }
-        return 0;
-      }
-      const double depth = (X[i] - FloorOrigin).dot(Filter.normal);
-      if (Filter.motion[i] == PointMotion::Free && depth < 0.0)
-      {
-        X[i] -= depth * Filter.normal;
-        Filter.motion[i] = PointMotion::OnPlane;
+        Filter.motion[i] = PointMotion::Free;
         return 1;
       }
       return 0;
     },
-    [](std::size_t a, std::size_t b) { return a + b; });
+    sum);
 }
 
-void ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, ImplicitConvergence& c)
+bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, ImplicitConvergence& c)
 {
-  int iterations = 0;
-  while (iterations < Settings.maxIterations && !(Residual <= Goal && Goal > 0.0))
+  const Iterate at{ plan, X, Gradient, Filter, Restart, Residual / Reference, Goal / Reference };
+  c.linearIterationsTotal += static_cast<unsigned long long>(rule(at, Direction));
+  Restart = false;
+
+  ScopedStageTimer timer(plan, Stage::Forces);
+  double slope = dot(Gradient, Direction);
+  if (!(slope < 0.0))
   {
-    {
-      ScopedStageTimer timer(plan, Stage::LinearSolve);
-      const Iterate at{ X, Gradient, Filter, Restart, Residual / Reference, Goal / Reference };
-      c.linearIterationsTotal += static_cast<unsigned long long>(rule(at, Direction));
-      Restart = false;
-    }
-    ScopedStageTimer timer(plan, Stage::Forces);
-    double slope = dot(Gradient, Direction);
+    // The linear solve broke down before making progress: steepest descent, scaled by the
+    // inverse masses, is still a descent direction.
+    const double h2 = Potential.step() * Potential.step();
+    parallelFor(Direction.size(), 4096, [&](std::size_t i) {
+      Direction[i] = -(h2 * Potential.inverseMass(i)) * Filtered[i];
+    });
+    slope = dot(Gradient, Direction);
     if (!(slope < 0.0))
     {
-      // The linear solve broke down before making progress: steepest descent, scaled by the
-      // inverse masses, is still a descent direction.
-      parallelFor(Direction.size(), 4096, [&](std::size_t i) {
-        const double w = Potential.inverseMass(i);
-        Direction[i] = -(Potential.step() * Potential.step() * w) * Filtered[i];
-      });
-      slope = dot(Gradient, Direction);
-      if (!(slope < 0.0))
-      {
-        return; // zero filtered gradient: nothing to do
-      }
-    }
-    double alpha = 1.0;
-    double trialEnergy = Energy;
-    bool accepted = false;
-    for (int halving = 0; halving <= kMaxHalvings && !accepted; ++halving)
-    {
-      Trial.resize(X.size());
-      parallelFor(X.size(), 4096, [&](std::size_t i) { Trial[i] = X[i] + alpha * Direction[i]; });
-      trialEnergy = Potential.evaluate(Trial, TrialGradient);
-      const double allowed = Search == LineSearch::Armijo ? kArmijo * alpha * slope : 0.0;
-      accepted = trialEnergy <= Energy + allowed;
-      if (!accepted)
-      {
-        alpha *= 0.5;
-        ++c.lineSearchHalvings;
-      }
-    }
-    if (!accepted)
-    {
-      Potential.evaluate(X, TrialGradient); // restore the element data of x
-      return;
-    }
-    // A decrease of Phi within its rounding and a residual that no longer halves: the iterate
-    // sits at the floor of double precision (stiff bodies reach it above small tolerances);
-    // more iterations would only spin.
-    const bool flatEnergy = Energy - trialEnergy <= 16.0 * std::numeric_limits<double>::epsilon() *
-        std::max(std::abs(Energy), std::abs(trialEnergy));
-    const double previousResidual = Residual;
-    std::swap(X, Trial);
-    std::swap(Gradient, TrialGradient);
-    Energy = trialEnergy;
-    parallelFor(Gradient.size(), 4096, [&](std::size_t i) { Filtered[i] = Filter.apply(i, Gradient[i]); });
-    Residual = Potential.residualAcceleration(Filtered);
-    ++iterations;
-    ++c.iterations;
-    c.residualHistory.push_back(Residual / Reference);
-    if (flatEnergy && Residual > 0.5 * previousResidual)
-    {
-      return;
+      return false; // zero filtered gradient: nothing left to do
     }
   }
+  double alpha = 1.0;
+  double trialEnergy = Energy;
+  std::size_t captured = 0;
+  bool accepted = false;
+  for (int halving = 0; halving <= kMaxHalvings && !accepted; ++halving)
+  {
+    Trial.resize(X.size());
+    parallelFor(X.size(), 4096, [&](std::size_t i) { Trial[i] = X[i] + alpha * Direction[i]; });
+    double allowed = Search == LineSearch::Armijo ? kArmijo * alpha * slope : 0.0;
+    captured = 0;
+    if (Floor)
+    {
+      TrialMotion = Filter.motion;
+      captured = capture(Trial, TrialMotion);
+      if (captured > 0 && Search == LineSearch::Armijo)
+      {
+        // The projection bent the path: ask for a decrease along the step actually taken.
+        parallelFor(X.size(), 4096, [&](std::size_t i) { TrialGradient[i] = Trial[i] - X[i]; });
+        allowed = std::min(0.0, kArmijo * dot(Gradient, TrialGradient));
+      }
+    }
+    trialEnergy = Potential.evaluate(Trial, TrialGradient);
+    accepted = trialEnergy <= Energy + allowed;
+    if (!accepted)
+    {
+      alpha *= 0.5;
+      ++c.lineSearchHalvings;
+    }
+  }
+  if (!accepted)
+  {
+    Potential.evaluate(X, TrialGradient); // restore the element data of x
+    return false;
+  }
+  // A decrease of Phi within its rounding and a residual that no longer halves: the iterate
+  // sits at the floor of double precision (stiff bodies reach it above small tolerances).
+  const bool flatEnergy = Energy - trialEnergy <= 16.0 * std::numeric_limits<double>::epsilon() *
+      std::max(std::abs(Energy), std::abs(trialEnergy));
+  const double previousResidual = Residual;
+  std::swap(X, Trial);
+  std::swap(Gradient, TrialGradient);
+  Energy = trialEnergy;
+  if (captured > 0)
+  {
+    std::swap(Filter.motion, TrialMotion);
+    Restart = true; // the search space changed: quasi-Newton history no longer applies
+  }
+  filterGradient();
+  ++c.iterations;
+  c.residualHistory.push_back(Residual / Reference);
+  return !(flatEnergy && Residual > 0.5 * previousResidual && captured == 0);
 }
 
 void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
@@ -155,8 +175,9 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
     }
     if (Floor)
     {
-      updateContacts(false); // start with the points whose prediction ends below the floor
+      capture(X, Filter.motion); // the points whose prediction ends below the floor
     }
+    TrialGradient.resize(X.size());
     evaluateAtX();
   }
   Reference = Potential.referenceAcceleration(GravityNorm);
@@ -164,21 +185,25 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
   c.residualHistory.assign(1, Residual / Reference);
   c.iterations = 0;
   Restart = true;
-  for (int round = 0; round < kMaxContactRounds; ++round)
+  while (c.iterations < Settings.maxIterations)
   {
-    iterate(plan, rule, c);
-    if (!Floor)
+    if (Floor)
+    {
+      ScopedStageTimer timer(plan, Stage::Floor);
+      if (release() > 0)
+      {
+        filterGradient();
+        Restart = true;
+      }
+    }
+    if (Residual <= Goal && Goal > 0.0)
     {
       break;
     }
-    ScopedStageTimer timer(plan, Stage::Floor);
-    if (updateContacts(true) == 0)
+    if (!iterate(plan, rule, c))
     {
       break;
     }
-    Restart = true;
-    evaluateAtX();
-    c.residualHistory.push_back(Residual / Reference);
   }
 
   c.residual = Residual / Reference;

@@ -74,7 +74,6 @@ void IncrementalPotential::elementPass(const std::vector<Vec3>& x)
   const ElementConstants& c = Constants;
   const std::size_t edgeCount = Topo.edges.size();
   SpringGradient.resize(edgeCount);
-  SpringHessian.resize(edgeCount);
   ElementEnergy.resize(edgeCount + (c.hasVolumeTerm ? Topo.tets.size() : 0));
   parallelFor(edgeCount, kElementGrain, [&](std::size_t e) {
     const Edge& edge = Topo.edges[e];
@@ -86,23 +85,12 @@ void IncrementalPotential::elementPass(const std::vector<Vec3>& x)
     const double dampingRate = n0.dot((x[edge.a] - X0[edge.a]) - (x[edge.b] - X0[edge.b])) / H;
     const double kd = c.springDamping[e];
     ElementEnergy[e] = 0.5 * k * stretch * stretch + 0.5 * kd * H * dampingRate * dampingRate;
-    Mat3 hessian = (kd / H) * n0 * n0.transpose();
     Vec3 gradient = kd * dampingRate * n0;
     if (length > 1e-12 * c.restLength[e])
     {
-      const Vec3 n = d / length;
-      gradient += k * stretch * n;
-      const Mat3 axial = n * n.transpose();
-      // Transverse stiffness k (1 - l0/l) is negative for a compressed spring: clamp to 0.
-      const double transverse = std::max(0.0, 1.0 - c.restLength[e] / length);
-      hessian += k * (axial + transverse * (Mat3::Identity() - axial));
-    }
-    else
-    {
-      hessian += k * Mat3::Identity(); // no direction: isotropic, still positive
+      gradient += (k * stretch / length) * d;
     }
     SpringGradient[e] = gradient;
-    SpringHessian[e] = hessian;
   });
   if (!c.hasVolumeTerm)
   {
@@ -175,8 +163,36 @@ double IncrementalPotential::evaluate(const std::vector<Vec3>& x, std::vector<Ve
   return inertia + parallelSum(ElementEnergy.size(), [&](std::size_t e) { return ElementEnergy[e]; });
 }
 
-void IncrementalPotential::assembleHessian(BlockSparseMatrix& hessian) const
+void IncrementalPotential::springHessianPass(const std::vector<Vec3>& x)
 {
+  const ElementConstants& c = Constants;
+  SpringHessian.resize(Topo.edges.size());
+  parallelFor(Topo.edges.size(), kElementGrain, [&](std::size_t e) {
+    const Edge& edge = Topo.edges[e];
+    const Vec3 d = x[edge.a] - x[edge.b];
+    const double length = d.norm();
+    const double k = c.springStiffness[e];
+    const Vec3& n0 = DampingAxis[e];
+    Mat3 hessian = (c.springDamping[e] / H) * n0 * n0.transpose();
+    if (length > 1e-12 * c.restLength[e])
+    {
+      const Vec3 n = d / length;
+      const Mat3 axial = n * n.transpose();
+      // Transverse stiffness k (1 - l0/l) is negative for a compressed spring: clamp to 0.
+      const double transverse = std::max(0.0, 1.0 - c.restLength[e] / length);
+      hessian += k * (axial + transverse * (Mat3::Identity() - axial));
+    }
+    else
+    {
+      hessian += k * Mat3::Identity(); // no direction: isotropic, still positive
+    }
+    SpringHessian[e] = hessian;
+  });
+}
+
+void IncrementalPotential::assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian)
+{
+  springHessianPass(x);
   const double h2 = H * H;
   parallelFor(Topo.vertexCount, kVertexGrain, [&](std::size_t i) {
     const std::int32_t row = static_cast<std::int32_t>(i);

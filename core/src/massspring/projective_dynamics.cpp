@@ -134,6 +134,7 @@ void ProjectiveDynamicsStepper::step(double h, DynamicState& state, StepPlan& pl
   }
   const auto globalSolve = [&](const ImplicitStepSolver::Iterate& at,
                              std::vector<Vec3>& result) {
+    ScopedStageTimer timer(at.plan, Stage::LinearSolve);
     direction(at, result);
     return 0;
   };

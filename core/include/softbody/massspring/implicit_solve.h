@@ -2,11 +2,13 @@
 // potential (incremental_potential.h) from the explicit prediction, along the descent
 // directions the integrator supplies (Newton + PCG, or Projective Dynamics' prefactored solve),
 // with a backtracking line search on Phi, until the residual acceleration is below the
-// tolerance. The floor is an inequality handled inside the solve by an active set: points that
-// would end below it are put on it and slide along it (the motion filter), and points the floor
-// would have to pull down are released, until the set settles; so the floor holds exactly and
-// the rest of the body answers it in the same step, instead of being crushed by a projection
-// afterwards. Contact is frictionless and inelastic, as the explicit integrators' floor.
+// tolerance. The floor is an inequality handled inside the solve by an active set updated at
+// every iteration (a primal active-set / projected Newton method): a trial point that would end
+// below the floor is put on it and from then on slides along it (the motion filter), and a
+// held point the floor would have to pull down (Phi's gradient pointing into the floor) is
+// released. So the floor holds exactly at every iterate and the rest of the body answers it in
+// the same step, instead of being crushed by a projection afterwards. Contact is frictionless
+// and inelastic, as the explicit integrators' floor.
 #pragma once
 
 #include "softbody/common/state.h"
@@ -30,6 +32,7 @@ public:
   /// more precisely than needed).
   struct Iterate
   {
+    StepPlan& plan; ///< the rule times its own stages (Forces for assembly, LinearSolve)
     const std::vector<Vec3>& x;
     const std::vector<Vec3>& gradient;
     const MotionFilter& filter;
@@ -51,18 +54,19 @@ public:
     LineSearch lineSearch);
 
   /// One step of h: positions and velocities of `state` (time and counters are the caller's).
-  /// Element passes are timed as Stage::Forces; the rule's time as Stage::LinearSolve.
+  /// Element passes are timed as Stage::Forces, contact updates as Stage::Floor.
   void step(double h, DynamicState& state, StepPlan& plan, const DirectionRule& direction,
     ImplicitConvergence& convergence);
 
 private:
-  /// Newton-type iterations on the current contact set; false when Phi could not decrease.
-  void iterate(StepPlan& plan, const DirectionRule& direction, ImplicitConvergence& c);
-  bool Restart = true;
+  /// One descent iteration with its line search; false when it cannot make progress.
+  bool iterate(StepPlan& plan, const DirectionRule& direction, ImplicitConvergence& c);
   void evaluateAtX();
-  /// Puts free points below the floor on it; releases held points the floor would pull.
-  /// Returns how many changed.
-  std::size_t updateContacts(bool release);
+  void filterGradient();
+  /// Puts the free points of `x` that lie below the floor on it, held (OnPlane) in `motion`.
+  std::size_t capture(std::vector<Vec3>& x, std::vector<PointMotion>& motion) const;
+  /// Releases held points the floor would have to pull down.
+  std::size_t release();
 
   IncrementalPotential& Potential;
   ImplicitSettings Settings;
@@ -71,6 +75,8 @@ private:
   bool Floor;
   Vec3 FloorOrigin;
   MotionFilter Filter;
+  std::vector<PointMotion> TrialMotion;
+  bool Restart = true;
   double Reference = 1.0, Goal = 0.0, Energy = 0.0, Residual = 0.0;
   std::vector<Vec3> X, Trial, Gradient, TrialGradient, Filtered, Direction;
 };

@@ -43,12 +43,13 @@ public:
   /// The explicit prediction y + h^2 g (x0 for fixed points): Newton's starting point.
   void predict(std::vector<Vec3>& x) const;
 
-  /// Phi(x) [J]; also fills the gradient [N] (zero on fixed points) and keeps the element data
-  /// that assembleHessian() uses.
+  /// Phi(x) [J]; also fills the gradient [N] (zero on fixed points) and keeps the tet data
+  /// that assembleHessian() reuses.
   double evaluate(const std::vector<Vec3>& x, std::vector<Vec3>& gradient);
 
-  /// The PSD-projected Hessian at the x of the last evaluate(); fixed rows get the identity.
-  void assembleHessian(BlockSparseMatrix& hessian) const;
+  /// The PSD-projected Hessian at x, which must be the x of the last evaluate(); fixed rows get
+  /// the identity. (Only Newton needs it, and only at accepted iterates: evaluate() skips it.)
+  void assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian);
 
   /// Mass-weighted RMS of the residual acceleration, sqrt(sum_i |G_i|^2 / m_i / sum_i m_i)
   /// [m/s^2]: how far the step's equations are from holding, in the units of g.
@@ -65,6 +66,7 @@ public:
 
 private:
   void elementPass(const std::vector<Vec3>& x);
+  void springHessianPass(const std::vector<Vec3>& x);
 
   const Topology& Topo;
   const ElementConstants& Constants;
@@ -82,7 +84,7 @@ private:
 
   // Per evaluate(): element data at x
   std::vector<Vec3> SpringGradient;   ///< dPhi/dx_a of each edge (x_b gets its negative)
-  std::vector<Mat3> SpringHessian;    ///< its PSD block (elastic + damping)
+  std::vector<Mat3> SpringHessian;    ///< its PSD block (elastic + damping); assembleHessian()
   std::vector<std::array<Vec3, 4>> TetGradient; ///< dV/dx_c at x
   std::vector<double> TetScale;       ///< K (V - V0): the volume gradient's factor
   std::vector<double> TetDampingScale; ///< Kd / h (g0 . dx): the damping gradient's factor
