@@ -76,6 +76,14 @@ def apply_like_gui(source):
     return shown
 
 
+def click_eye(source, port, view, visible):
+    """What a click on an output port's eye in the Pipeline Browser does with `view` active
+    (pqPipelineBrowserWidget::setVisibility): returns the representation, or None when the view
+    cannot show that port (a table in a render view)."""
+    controller = vtkSMParaViewPipelineControllerWithRendering()
+    return controller.SetVisibility(source.SMProxy, port, view.SMProxy, visible)
+
+
 def visible_ports(source, view):
     """The output ports of `source` with a visible representation in `view`."""
     controller = vtkSMParaViewPipelineControllerWithRendering()
