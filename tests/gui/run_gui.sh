@@ -1,20 +1,25 @@
 #!/usr/bin/env bash
 # Usage: run_gui.sh <script.py> <plugin.so> <data dir> [screenshot.png]
 # Runs <script.py> inside the real ParaView GUI (`paraview --script`) under Xvfb and returns its
-# verdict: 0 passed, 1 failed, 77 (CTest's skip code) when `paraview` or `xvfb-run` is missing
-# (Debian: paraview, libqt5svg5, xvfb, xauth; scripts/common.sh installs them).
+# verdict: 0 passed, 1 failed, 77 (CTest's skip code) when `paraview`, `xvfb-run` or `pvpython` is
+# missing
+# (Debian: paraview, python3-paraview, libqt5svg5, xvfb, xauth; scripts/common.sh installs
+# them).
 # The script learns its arguments from the environment (tests/gui/gui_support.py), writes its
 # verdict and has the GUI ended (gui_finish.py); a GUI still running after SOFTBODY_GUI_TIMEOUT
 # seconds (default 120) has failed.
 set -uo pipefail
 script="$1" plugin="$2" data_dir="$3" shot="${4:-}"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-for tool in paraview xvfb-run; do
+# pvpython runs the helper that ends the GUI (gui_finish.py); SOFTBODY_PVPYTHON may name it.
+pvpython="${SOFTBODY_PVPYTHON:-pvpython}"
+for tool in paraview xvfb-run "${pvpython}"; do
   if ! command -v "${tool}" >/dev/null 2>&1; then
-    echo "SKIP: '${tool}' not found (Debian: apt-get install paraview libqt5svg5 xvfb xauth)"
+    echo "SKIP: '${tool}' not found (Debian: apt-get install paraview python3-paraview libqt5svg5 xvfb xauth)"
     exit 77
   fi
 done
+export SOFTBODY_PVPYTHON="${pvpython}"
 work="$(mktemp -d)"
 trap 'rm -rf "${work}"' EXIT
 export SOFTBODY_GUI_DIR="${here}" SOFTBODY_PLUGIN_FILE="${plugin}" SOFTBODY_DATA_DIR="${data_dir}"
