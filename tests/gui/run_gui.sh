@@ -2,8 +2,7 @@
 # Usage: run_gui.sh <script.py> <plugin.so> <data dir> [screenshot.png]
 # Runs <script.py> inside the real ParaView GUI (`paraview --script`) under Xvfb and returns its
 # verdict: 0 passed, 1 failed, 77 (CTest's skip code) when `paraview`, `xvfb-run` or `pvpython` is
-# missing
-# (Debian: paraview, python3-paraview, libqt5svg5, xvfb, xauth; scripts/common.sh installs
+# missing (Debian: paraview, python3-paraview, libqt5svg5, xvfb, xauth; scripts/common.sh installs
 # them).
 # The script learns its arguments from the environment (tests/gui/gui_support.py), writes its
 # verdict and has the GUI ended (gui_finish.py); a GUI still running after SOFTBODY_GUI_TIMEOUT
