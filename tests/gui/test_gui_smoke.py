@@ -4,7 +4,9 @@ Loads the plugin, opens data/jelly.vtu, applies Soft Body as the Apply button do
 what a new user sees: only the Mesh and the Floor shown, in the one render view (no spreadsheet
 or chart pane for Convergence, no particles over the mesh), the Mesh coloured by Velocity, the
 render view still the active view, the animation stepping through the filter's times, and no
-error or warning in the Output Messages window.
+error or warning in the Output Messages window. Then the same Apply on a voxelized torus (with
+the torus as its Surface) and on the cloth, both under XPBD: the same two ports, still one view,
+both bodies following the animation time.
 """
 import os
 import sys
@@ -16,7 +18,8 @@ failures = []
 try:
     messages = gui_support.OutputMessages()
     from paraview.simple import (GetActiveView, GetAnimationScene, GetDisplayProperties,
-                                 GetViews, OutputPort, Render, XMLUnstructuredGridReader)
+                                 GetViews, OutputPort, Render, XMLPolyDataReader,
+                                 XMLUnstructuredGridReader)
     gui_support.load_plugin(globals())
 
     reader = XMLUnstructuredGridReader(FileName=[gui_support.data_file("jelly.vtu")])
@@ -59,6 +62,31 @@ try:
                         % (floor_bounds,))
     if GetActiveView().GetXMLName() != "RenderView":
         failures.append("after stepping, the active view is %s" % GetActiveView().GetXMLName())
+
+    # The two particle bodies of the issue, under XPBD: a voxelized surface given as its own
+    # Surface, and the cloth. Apply shows the same two ports and opens no pane for either.
+    torus = XMLPolyDataReader(FileName=[gui_support.data_file("torus.vtp")])
+    gui_support.apply_like_gui(torus)
+    lattice = SoftBodyVoxelize(Input=torus, Resolution=12)
+    gui_support.apply_like_gui(lattice)
+    voxel_body = SoftBody(Input=lattice, Surface=torus, Method="XPBD", EndTime=0.4)
+    cloth = SoftBodyCloth(Resolution=[12, 12])
+    gui_support.apply_like_gui(cloth)
+    cloth_body = SoftBody(Input=cloth, Method="XPBD", PinnedPointsArray="Pinned", EndTime=0.4)
+    for name, source in (("voxelized torus", voxel_body), ("cloth", cloth_body)):
+        shown = gui_support.apply_like_gui(source)
+        if shown != expected:
+            failures.append("%s: Apply showed ports %s, expected %s" % (name, shown, expected))
+    views = [view.GetXMLName() for view in GetViews()]
+    if views != ["RenderView"]:
+        failures.append("views after the particle bodies: %s, expected one RenderView" % views)
+    scene.UpdateAnimationUsingDataTimeSteps()
+    scene.AnimationTime = 0.2
+    Render(view)
+    for name, source in (("voxelized torus", voxel_body), ("cloth", cloth_body)):
+        time = source.GetFieldDataInformation().GetArray("SimulationTime").GetRange(0)[0]
+        if abs(time - 0.2) > 1e-9:
+            failures.append("%s: at SimulationTime %g, expected 0.2" % (name, time))
     gui_support.finish_later(failures, messages, shot=os.environ.get("SOFTBODY_GUI_SHOT"))
 except Exception:
     gui_support.fail_now(failures)
