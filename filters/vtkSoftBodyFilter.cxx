@@ -2,6 +2,7 @@
 
 #include "vtkSoftBodyArrays.h"
 #include "vtkSoftBodyDistribution.h"
+#include "vtkSoftBodyFloorOutput.h"
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyImplicitReport.h"
 #include "vtkSoftBodyInputConversion.h"
@@ -133,7 +134,7 @@ vtkSoftBodyFilter::vtkSoftBodyFilter()
   : Internals(new vtkInternals)
 {
   this->SetNumberOfInputPorts(2);
-  this->SetNumberOfOutputPorts(4);
+  this->SetNumberOfOutputPorts(5);
   this->P = vtkSoftBodySettings::DefaultParameters();
 }
 
@@ -165,8 +166,9 @@ int vtkSoftBodyFilter::FillInputPortInformation(int port, vtkInformation* info)
 //------------------------------------------------------------------------------
 int vtkSoftBodyFilter::FillOutputPortInformation(int port, vtkInformation* info)
 {
-  const char* types[] = { "vtkUnstructuredGrid", "vtkPolyData", "vtkTable", "vtkPolyData" };
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), types[std::min(port, 3)]);
+  const char* types[] = { "vtkUnstructuredGrid", "vtkPolyData", "vtkTable", "vtkPolyData",
+    "vtkPolyData" };
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), types[std::min(port, 4)]);
   return 1;
 }
 
@@ -230,8 +232,9 @@ int vtkSoftBodyFilter::RequestData(
   vtkPolyData* particles = vtkPolyData::GetData(outputVector, 1);
   vtkTable* convergence = vtkTable::GetData(outputVector, 2);
   vtkPolyData* skinned = vtkPolyData::GetData(outputVector, 3);
+  vtkPolyData* floorOutput = vtkPolyData::GetData(outputVector, 4);
   vtkDataObject* surfaceInput = vtkDataObject::GetData(inputVector[1], 0); // optional
-  if (!input || !mesh || !particles || !convergence || !skinned)
+  if (!input || !mesh || !particles || !convergence || !skinned || !floorOutput)
   {
     vtkErrorMacro("Missing input or output data object.");
     return 0;
@@ -370,6 +373,8 @@ int vtkSoftBodyFilter::RequestData(
   {
     this->Internals->Skin.Fill(surface, this->Internals->Simulation->positions(), skinned);
   }
+  vtkSoftBodyFloorOutput::Fill(
+    this->P.Floor != 0, this->P.FloorOrigin, this->P.FloorNormal, input->GetBounds(), floorOutput);
   stampTime();
   return 1;
 }
@@ -608,6 +613,9 @@ void vtkSoftBodyFilter::FillMesh(
   }
   output->GetPointData()->AddArray(MakeVectorArray("Velocity", simulation.velocities()));
   output->GetPointData()->AddArray(MakeVectorArray("Displacement", displacement));
+  // The active scalars are what ParaView colours a new representation by (speed, for a
+  // 3-component array); without them Apply shows a solid colour. They replace any the input had.
+  output->GetPointData()->SetActiveScalars("Velocity");
 
   // Core keeps the tets in input cell order, so the ratios map onto the input cells; a PBD
   // input that mixes tets with other cells maps them through the adapter (NaN for non-tets).

@@ -21,7 +21,12 @@
  *   (sub)step (PBD and XPBD; empty for mass-spring);
  * - port 3 ("Surface"): when a surface is connected to input port 1 (optional), that surface
  *   (same cells and arrays) moving with the body, normals recomputed: bound once to a Soft Body
- *   Voxelize lattice with trilinear weights or to a tet body with barycentric ones.
+ *   Voxelize lattice with trilinear weights or to a tet body with barycentric ones;
+ * - port 4 ("Floor"): the floor plane as a square sized to the body (vtkSoftBodyFloorOutput),
+ *   empty when Floor is off.
+ *
+ * "Velocity" is the Mesh's active scalars: ParaView colours a new representation by the active
+ * scalars, so Apply shows the body coloured by speed rather than in a solid colour.
  *
  * The physics lives in core (softbody::MassSpringSimulation, softbody::PbdSimulation; no VTK). This class only
  * translates: properties to core settings, the input to a core body, time requests to

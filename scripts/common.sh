@@ -30,6 +30,8 @@ SOFTBODY_PACKAGES=(
   libegl-mesa0 libgl1-mesa-dri                  # Mesa EGL + llvmpipe, so GPU tests run without a GPU
   libgtest-dev libbenchmark-dev                 # tests/unit, tests/bench
   xvfb xauth                                    # rendering (demo, tests) without a display
+  qtxmlpatterns5-dev-tools qttools5-dev         # the plugin's help pages (xmlpatterns, qhelpgenerator)
+  paraview libqt5svg5                           # the ParaView GUI, for tests/gui (svg: toolbar icons)
 )
 
 softbody_log() { printf '[softbody] %s\n' "$*" >&2; }

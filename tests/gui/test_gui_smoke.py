@@ -1,0 +1,92 @@
+"""GUI smoke test, run inside the real ParaView GUI by run_gui.sh (see gui_support.py).
+
+Loads the plugin, opens data/jelly.vtu, applies Soft Body as the Apply button does, and checks
+what a new user sees: only the Mesh and the Floor shown, in the one render view (no spreadsheet
+or chart pane for Convergence, no particles over the mesh), the Mesh coloured by Velocity, the
+render view still the active view, the animation stepping through the filter's times, and no
+error or warning in the Output Messages window. Then the same Apply on a voxelized torus (with
+the torus as its Surface) and on the cloth, both under XPBD: the same two ports, still one view,
+both bodies following the animation time.
+"""
+import os
+import sys
+
+sys.path.insert(0, os.environ["SOFTBODY_GUI_DIR"])
+import gui_support  # noqa: E402
+
+failures = []
+try:
+    messages = gui_support.OutputMessages()
+    from paraview.simple import (GetActiveView, GetAnimationScene, GetDisplayProperties,
+                                 GetViews, OutputPort, Render, XMLPolyDataReader,
+                                 XMLUnstructuredGridReader)
+    gui_support.load_plugin(globals())
+
+    reader = XMLUnstructuredGridReader(FileName=[gui_support.data_file("jelly.vtu")])
+    gui_support.apply_like_gui(reader)
+    body = SoftBody(Input=reader, EndTime=1.0)
+    shown = gui_support.apply_like_gui(body)
+
+    expected = {0: "RenderView", 1: None, 2: None, 3: None, 4: "RenderView"}
+    if shown != expected:
+        failures.append("Apply showed ports %s, expected %s" % (shown, expected))
+    views = [view.GetXMLName() for view in GetViews()]
+    if views != ["RenderView"]:
+        failures.append("views after Apply: %s, expected one RenderView" % views)
+    view = GetActiveView()
+    if view is None or view.GetXMLName() != "RenderView":
+        failures.append("the active view is %s, not the render view"
+                        % (view.GetXMLName() if view else None))
+    if gui_support.visible_ports(reader, view):
+        failures.append("the input stays visible under the body")
+    colour = GetDisplayProperties(OutputPort(body, 0), view).ColorArrayName
+    if list(colour) != ["POINTS", "Velocity"]:
+        failures.append("Mesh coloured by %s, expected POINTS Velocity" % list(colour))
+
+    # Step the animation as the VCR toolbar's Next Frame does.
+    scene = GetAnimationScene()
+    scene.UpdateAnimationUsingDataTimeSteps()
+    times = list(body.TimestepValues)
+    for _ in range(5):
+        scene.GoToNext()
+        Render(view)
+    if abs(scene.AnimationTime - times[5]) > 1e-9:
+        failures.append("after 5 Next Frame the time is %g, expected %g"
+                        % (scene.AnimationTime, times[5]))
+    simulated = body.GetFieldDataInformation().GetArray("SimulationTime").GetRange(0)[0]
+    if abs(simulated - times[5]) > 1e-9:
+        failures.append("the Mesh is at SimulationTime %g, expected %g" % (simulated, times[5]))
+    floor_bounds = OutputPort(body, 4).GetDataInformation().GetBounds()
+    if not (floor_bounds[4] == floor_bounds[5] == 0.0 and floor_bounds[1] > floor_bounds[0]):
+        failures.append("the Floor port is not a square in the plane z = 0: %s"
+                        % (floor_bounds,))
+    if GetActiveView().GetXMLName() != "RenderView":
+        failures.append("after stepping, the active view is %s" % GetActiveView().GetXMLName())
+
+    # The two particle bodies of the issue, under XPBD: a voxelized surface given as its own
+    # Surface, and the cloth. Apply shows the same two ports and opens no pane for either.
+    torus = XMLPolyDataReader(FileName=[gui_support.data_file("torus.vtp")])
+    gui_support.apply_like_gui(torus)
+    lattice = SoftBodyVoxelize(Input=torus, Resolution=12)
+    gui_support.apply_like_gui(lattice)
+    voxel_body = SoftBody(Input=lattice, Surface=torus, Method="XPBD", EndTime=0.4)
+    cloth = SoftBodyCloth(Resolution=[12, 12])
+    gui_support.apply_like_gui(cloth)
+    cloth_body = SoftBody(Input=cloth, Method="XPBD", PinnedPointsArray="Pinned", EndTime=0.4)
+    for name, source in (("voxelized torus", voxel_body), ("cloth", cloth_body)):
+        shown = gui_support.apply_like_gui(source)
+        if shown != expected:
+            failures.append("%s: Apply showed ports %s, expected %s" % (name, shown, expected))
+    views = [view.GetXMLName() for view in GetViews()]
+    if views != ["RenderView"]:
+        failures.append("views after the particle bodies: %s, expected one RenderView" % views)
+    scene.UpdateAnimationUsingDataTimeSteps()
+    scene.AnimationTime = 0.2
+    Render(view)
+    for name, source in (("voxelized torus", voxel_body), ("cloth", cloth_body)):
+        time = source.GetFieldDataInformation().GetArray("SimulationTime").GetRange(0)[0]
+        if abs(time - 0.2) > 1e-9:
+            failures.append("%s: at SimulationTime %g, expected 0.2" % (name, time))
+    gui_support.finish_later(failures, messages, shot=os.environ.get("SOFTBODY_GUI_SHOT"))
+except Exception:
+    gui_support.fail_now(failures)
