@@ -123,7 +123,7 @@ public:
     int Integrator = EULER_CROMER;
     double TimeStep = 0.0;
     double ImplicitTolerance = 1.0e-3;
-    int ImplicitMaxIterations = 30;
+    int ImplicitMaxIterations = 100;
     double EndTime = 3.0;
     double FrameInterval = 0.04;
     double Gravity[3] = { 0.0, 0.0, -9.81 };

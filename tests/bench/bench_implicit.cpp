@@ -51,6 +51,8 @@ SceneSettings droppedOnTheFloor(const TetMesh& mesh, Integrator integrator)
   {
     scene.timeStep = kFrame;
   }
+  if (getenv("MAXIT")) scene.implicit.maxIterations = atoi(getenv("MAXIT"));
+  if (getenv("HIST")) scene.implicit.projectiveHistory = atoi(getenv("HIST"));
   return scene;
 }
 

@@ -28,6 +28,7 @@ SKIP = 77
 
 MESH_PORT = 0       # "Mesh": the deformed vtkUnstructuredGrid
 PARTICLES_PORT = 1  # "Particles": vtkPolyData vertices with Velocity and InverseMass
+CONVERGENCE_PORT = 2  # "Convergence": vtkTable of the last step's residual per iteration
 
 
 def parse_args(description, extra=None):

@@ -228,7 +228,7 @@ TEST(ImplicitIntegrators, EnergyNeverGrowsWithoutInput)
 // cantilever runs a second without blowing up and settles at its static sag. Newton converges
 // in every step (measured: 11 Newton and ~690 CG iterations per step). Projective Dynamics'
 // isotropic matrix overestimates the bending stiffness by orders of magnitude here: with its
-// default 30 iterations it stays finite but does not converge, and says so (the filter turns
+// 30 iterations it stays finite but does not converge, and says so (the filter turns
 // that into a warning); given 400 iterations and 20 L-BFGS pairs it reaches the same sag.
 TEST(ImplicitIntegrators, SteelCantileverRunsAtFrameRateSteps)
 {

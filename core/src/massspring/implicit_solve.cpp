@@ -153,7 +153,6 @@ bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, Impl
   if (captured > 0)
   {
     std::swap(Filter.motion, TrialMotion);
-    Restart = true; // the search space changed: quasi-Newton history no longer applies
   }
   filterGradient();
   ++c.iterations;
@@ -193,7 +192,6 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
       if (release() > 0)
       {
         filterGradient();
-        Restart = true;
       }
     }
     if (Residual <= Goal && Goal > 0.0)

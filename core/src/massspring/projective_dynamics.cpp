@@ -204,6 +204,9 @@ void ProjectiveDynamicsStepper::direction(
     const double a = Alpha[k];
     parallelFor(n, 4096, [&](std::size_t i) { result[i] -= (a - beta) * Pairs[k].s[i]; });
   }
+  // Pairs from before a contact change may leave the filtered space: filter the result. It
+  // stays a descent direction: g . S H q = q . H q > 0 for the positive definite L-BFGS H.
+  parallelFor(n, 4096, [&](std::size_t i) { result[i] = at.filter.apply(i, result[i]); });
 }
 
 } // namespace softbody

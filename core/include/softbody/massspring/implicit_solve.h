@@ -27,9 +27,9 @@ class ImplicitStepSolver
 {
 public:
   /// What a direction rule is given: the iterate, Phi's gradient there, the filter, whether
-  /// this is the first iteration since the step began or the contact set changed (history
-  /// from before must be dropped), and the relative residual and goal (so a rule solves no
-  /// more precisely than needed).
+  /// this is the step's first iteration (history from earlier steps must be dropped; contact
+  /// changes within a step keep it: the rule filters its direction), and the relative residual
+  /// and goal (so a rule solves no more precisely than needed).
   struct Iterate
   {
     StepPlan& plan; ///< the rule times its own stages (Forces for assembly, LinearSolve)

@@ -20,10 +20,10 @@ struct ImplicitSettings
   /// Projective Dynamics: 0 = always run maxIterations local/global iterations.
   double tolerance = 1.0e-3;
   /// Newton iterations (Implicit Euler) or local/global iterations (Projective Dynamics).
-  int maxIterations = 30;
+  int maxIterations = 100;
   /// Projective Dynamics: (s, y) pairs of the L-BFGS acceleration (Liu et al. 2017), which
   /// uses the prefactored matrix as its initial Hessian; 0 = plain local/global iterations.
-  int projectiveHistory = 5;
+  int projectiveHistory = 10;
   bool operator==(const ImplicitSettings&) const = default;
 };
 

@@ -1,0 +1,109 @@
+"""python.implicit: the implicit integrators through the filter, as a pvpython user runs them.
+
+Implicit Euler and Projective Dynamics with TimeStep 0 take one step per frame (StepCount equals
+the frame count, TimeStep equals FrameInterval); the jelly falls onto the floor and rests on it
+without sinking below; the static rest state agrees with Euler-Cromer's (the same discrete model);
+steel (E = 2e11 Pa) runs a second at 1/30 s steps; the filter reports the solves (Iterations,
+Residual, UnconvergedSteps, LinearIterations, the Convergence table, the plan's linear solve);
+the GPU device falls back to the CPU with a warning; bad implicit settings are refused quoting
+the value."""
+
+import os
+
+import numpy as np
+from paraview.simple import *  # noqa: F401,F403
+
+import softbody_testing as sbt
+
+args = sbt.parse_args(__doc__)
+LoadPlugin(args.plugin, remote=False, ns=globals())
+
+reader = XMLUnstructuredGridReader(FileName=[os.path.join(args.data_dir, "jelly.vtu")])
+FRAME = 1.0 / 30.0
+END = 2.0
+frames = round(END / FRAME)
+x0 = sbt.points_of(sbt.output_at(SoftBody(Input=reader, EndTime=0.1), 0.0))
+size = float(np.max(x0.max(axis=0) - x0.min(axis=0)))
+
+
+def rest_state(integrator, **properties):
+    body = SoftBody(Input=reader, Integrator=integrator, EndTime=END, FrameInterval=FRAME,
+                    **properties)
+    mesh = sbt.output_at(body, END)
+    table = sbt.output_at(body, END, sbt.CONVERGENCE_PORT)
+    return body, mesh, table
+
+
+centers = {}
+for integrator, linear_solve in [("Implicit Euler", "linear solve: block-Jacobi PCG"),
+                                 ("Projective Dynamics", "linear solve: prefactored Cholesky")]:
+    body, mesh, table = rest_state(integrator)
+    x = sbt.points_of(mesh)
+    v = sbt.point_array(mesh, "Velocity")
+    plan = sbt.field_value(mesh, "Plan") or ""
+    print(f"{integrator}:\n{sbt.field_summary(mesh)}")
+    sbt.check(sbt.field_value(mesh, "StepCount") == frames,
+              f"{integrator}: one step per frame ({frames} frames, "
+              f"StepCount {sbt.field_value(mesh, 'StepCount')})")
+    sbt.check(sbt.isclose(sbt.field_value(mesh, "TimeStep"), FRAME, rel=1e-9),
+              f"{integrator}: TimeStep is the frame interval")
+    sbt.check(sbt.field_value(mesh, "StableTimeStep") == 0.0,
+              f"{integrator}: no stability limit is reported")
+    sbt.check(linear_solve in plan, f"{integrator}: the plan lists '{linear_solve}' ({plan})")
+    sbt.check(sbt.field_value(mesh, "UnconvergedSteps") == 0,
+              f"{integrator}: every step converged")
+    sbt.check(sbt.field_value(mesh, "Residual") <= 1e-3,
+              f"{integrator}: the last step's residual is within the tolerance")
+    residuals = [table.GetColumnByName("Residual").GetValue(k) for k in range(table.GetNumberOfRows())]
+    sbt.check(len(residuals) >= 1 and residuals[-1] <= 1e-3,
+              f"{integrator}: the Convergence table ends within the tolerance ({residuals})")
+    sbt.check(np.isfinite(x).all() and np.isfinite(v).all(), f"{integrator}: finite state")
+    sbt.check(x[:, 2].min() >= -1e-9, f"{integrator}: nothing below the floor ({x[:, 2].min():.2e})")
+    sbt.check(x[:, 2].min() <= 1e-6, f"{integrator}: the jelly rests on the floor")
+    sbt.check(np.abs(v).max() < 0.05, f"{integrator}: settled (max speed {np.abs(v).max():.3g} m/s)")
+    centers[integrator] = x.mean(axis=0)
+    Delete(body)
+
+# The rest shape is the discrete model's static equilibrium, whichever integrator finds it.
+explicit = SoftBody(Input=reader, Integrator="Euler-Cromer", EndTime=END, FrameInterval=FRAME)
+x_explicit = sbt.points_of(sbt.output_at(explicit, END))
+Delete(explicit)
+for integrator, center in centers.items():
+    gap = abs(center[2] - x_explicit.mean(axis=0)[2])
+    sbt.check(gap < 0.01 * size,
+              f"{integrator}'s rest height agrees with Euler-Cromer's within 1 % of the size "
+              f"({gap:.2e} m)")
+
+# Steel at frame-rate steps: the explicit stable step would be ~1e-6 s.
+steel, mesh, _ = rest_state("Implicit Euler", YoungsModulus=2e11, Density=7850.0)
+x = sbt.points_of(mesh)
+sbt.check(np.isfinite(x).all() and x[:, 2].min() >= -1e-9, "steel: finite and above the floor")
+sbt.check(sbt.field_value(mesh, "UnconvergedSteps") == 0, "steel: every Newton solve converged")
+Delete(steel)
+
+# The GPU stepper is explicit: an implicit integrator runs on the CPU and says so.
+gpu = SoftBody(Input=reader, Integrator="Implicit Euler", Device="GPU (EGL)", EndTime=0.1,
+               FrameInterval=0.05)
+mesh = sbt.output_at(gpu, 0.1)
+warnings = sbt.field_value(mesh, "Warnings") or ""
+sbt.check(sbt.field_value(mesh, "Device") == "CPU" and "implicit" in warnings,
+          f"GPU (EGL) with Implicit Euler falls back to the CPU with a warning ({warnings})")
+Delete(gpu)
+
+# Refusals quote the value.
+errors = sbt.ErrorCapture()
+for values, words in [
+    ({"Integrator": "Implicit Euler", "ImplicitTolerance": -1.0}, ["ImplicitTolerance", "got -1"]),
+    ({"Integrator": "Implicit Euler", "ImplicitTolerance": 0.0}, ["ImplicitTolerance", "got 0"]),
+    ({"Integrator": "Projective Dynamics", "ImplicitMaxIterations": 0},
+     ["ImplicitMaxIterations", "got 0"]),
+]:
+    errors.clear()
+    bad = SoftBody(Input=reader, EndTime=0.1, FrameInterval=0.05, **values)
+    out = sbt.output_at(bad, 0.05)
+    text = "".join(errors.errors)
+    sbt.check(all(w in text for w in words), f"{values}: the error names {words} ({text[:200]!r})")
+    sbt.check(out is None or out.GetNumberOfPoints() == 0, f"{values}: empty output")
+    Delete(bad)
+errors.close()
+print("python.implicit passed")
