@@ -55,6 +55,7 @@ double modelledBytesPerStep(std::size_t vertices, std::size_t edges, std::size_t
 struct Measurement
 {
   bench::MinMedian secondsPerStep;
+  double cpuSecondsPerStep = 0.0; ///< least CPU time of the calling thread per step
   double setupSeconds = 0.0;
   std::uint64_t hash = 0;
 };
@@ -89,14 +90,17 @@ Measurement measure(const TetMesh& mesh, VertexOrdering ordering, bool smoke, in
   {
     steps = smoke ? 5 : std::max(20, static_cast<int>(0.3 / probe));
   }
-  std::vector<double> perStep;
+  std::vector<double> perStep, cpuPerStep;
   for (int r = 0; r < repeat; ++r)
   {
     const auto start = std::chrono::steady_clock::now();
+    const double cpuStart = bench::threadCpuSeconds();
     sim->advance(sim->time() + steps * h);
+    cpuPerStep.push_back((bench::threadCpuSeconds() - cpuStart) / steps);
     perStep.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / steps);
   }
   result.secondsPerStep = bench::minMedian(perStep);
+  result.cpuSecondsPerStep = bench::minMedian(cpuPerStep).min;
   result.hash = bench::hashPositions(sim->positions());
   return result;
 }
@@ -133,15 +137,17 @@ int main(int argc, char** argv)
   std::map<int, double> boxPerTet;
 
   std::ofstream csv(options.csv);
-  csv << "mesh,vertices,edges,tets,ordering,threads,ms_per_step,ms_per_step_median,setup_ms,"
+  csv << "mesh,vertices,edges,tets,ordering,threads,ms_per_step,ms_per_step_median,cpu_ms_per_step,setup_ms,"
          "tets_per_second,speedup,modelled_MB_per_step,bandwidth_GBps,time_over_bandwidth_bound,"
          "time_over_input_order,per_tet_time_over_box,state_hash\n";
-  std::printf("\nms/step: minimum (median) of %d run(s); 'x bw': time over the bandwidth bound; "
+  std::printf("\nms/step: minimum (median) of %d run(s), wall time; 'cpu ms': least CPU time of "
+              "the calling thread per step (1 thread only; leaves out time other processes held "
+              "the core); 'x bw': time over the bandwidth bound; "
               "'/input': time over the same mesh in input order; 'x box': per-tet time over %s's in input order\n",
     options.repeat, box ? box->name.c_str() : "(no box)");
-  std::printf("%-22s %7s %6s %-6s %3s %9s %9s %8s %10s %7s %6s %6s %6s %16s\n", "mesh", "tets",
-    "verts", "order", "thr", "ms/step", "(median)", "setup ms", "tets/s", "speedup", "x bw",
-    "/input", "x box", "hash");
+  std::printf("%-22s %7s %6s %-6s %3s %9s %9s %8s %8s %10s %7s %6s %6s %6s %16s\n", "mesh", "tets",
+    "verts", "order", "thr", "ms/step", "(median)", "cpu ms", "setup ms", "tets/s", "speedup",
+    "x bw", "/input", "x box", "hash");
   for (const auto& named : meshes)
   {
     const Topology topology = buildTopology(named.mesh.points.size(), named.mesh.tets);
@@ -184,14 +190,15 @@ int main(int argc, char** argv)
         }
         const double overInput = inputOrder.count(threads) ? t / inputOrder[threads] : 0.0;
         const double overBox = boxPerTet.count(threads) ? (t / tets) / boxPerTet[threads] : 0.0;
-        std::printf("%-22s %7zu %6zu %-6s %3d %9.3f %9.3f %8.1f %10.3g %7.2f %6.2f %6.2f %6.2f %016llx%s\n",
+        std::printf("%-22s %7zu %6zu %-6s %3d %9.3f %9.3f %8.3f %8.1f %10.3g %7.2f %6.2f %6.2f %6.2f %016llx%s\n",
           named.name.c_str(), named.mesh.tets.size(), named.mesh.points.size(),
           vertexOrderingName(ordering), threads, 1e3 * t, 1e3 * m.secondsPerStep.median,
-          1e3 * m.setupSeconds, tets / t, oneThread / t, t / bound, overInput, overBox,
+          threads == 1 ? 1e3 * m.cpuSecondsPerStep : 0.0, 1e3 * m.setupSeconds, tets / t, oneThread / t, t / bound, overInput, overBox,
           static_cast<unsigned long long>(m.hash), m.hash == firstHash ? "" : "  HASH DIFFERS");
         csv << named.name << ',' << named.mesh.points.size() << ',' << topology.edges.size() << ','
             << named.mesh.tets.size() << ',' << vertexOrderingName(ordering) << ',' << threads << ','
-            << 1e3 * t << ',' << 1e3 * m.secondsPerStep.median << ',' << 1e3 * m.setupSeconds << ','
+            << 1e3 * t << ',' << 1e3 * m.secondsPerStep.median << ',' << 1e3 * m.cpuSecondsPerStep << ','
+            << 1e3 * m.setupSeconds << ','
             << tets / t << ',' << oneThread / t << ',' << bytes / 1e6 << ',' << bandwidth[k] / 1e9
             << ',' << t / bound << ',' << overInput << ',' << overBox << ',' << m.hash << '\n';
         if (m.hash != firstHash)

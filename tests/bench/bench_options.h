@@ -5,6 +5,7 @@
 #include "softbody/common/geometry.h"
 
 #include <algorithm>
+#include <ctime>
 #include <cstdint>
 #include <cstdlib>
 #include <iostream>
@@ -79,6 +80,17 @@ inline std::uint64_t hashPositions(const std::vector<Vec3>& x)
 
 namespace softbody::bench
 {
+/// CPU time of the calling thread [s]. On a shared machine a single-threaded run's CPU time
+/// leaves out the time other processes held the core (its wall time does not), so 1-thread rows
+/// also print it; with several threads the work runs on TBB's workers too, and only wall time
+/// means anything.
+inline double threadCpuSeconds()
+{
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
 /// The minimum and the median of some timings.
 struct MinMedian
 {

@@ -111,6 +111,7 @@ void throughput(const bench::Options& options, int maxThreads)
 {
   std::ofstream csv(options.csv + "_throughput.csv");
   csv << "mesh,tets,links,ordering,solver,threads,ms_per_iteration,ms_per_iteration_median,"
+         "cpu_ms_per_iteration,"
          "projections_per_second_per_thread,speedup,time_over_input_order,"
          "per_projection_time_over_box,state_hash\n";
   const std::vector<bench::NamedMesh> meshes =
@@ -120,11 +121,14 @@ void throughput(const bench::Options& options, int maxThreads)
   // thread count.
   std::map<std::pair<int, int>, double> boxPerProjection;
   std::printf("\nXPBD, 10 iterations per step, edges + tet volumes + floor. ms/iter: minimum (median) "
-              "of %d run(s); '/input': time over the same mesh in input order; 'x box': "
+              "of %d run(s), wall time of the solve stages; 'cpu ms': least CPU time of the calling "
+              "thread per iteration, whole step included (1 thread only; leaves out time other "
+              "processes held the core); '/input': time over the same mesh in input order; 'x box': "
               "per-projection time over %s's in input order\n",
     options.repeat, box ? box->name.c_str() : "(no box)");
-  std::printf("%-22s %7s %7s %-6s %-22s %3s %8s %8s %13s %7s %6s %6s\n", "mesh", "tets", "links",
-    "order", "solver", "thr", "ms/iter", "(median)", "proj/s/thread", "speedup", "/input", "x box");
+  std::printf("%-22s %7s %7s %-6s %-22s %3s %8s %8s %8s %13s %7s %6s %6s\n", "mesh", "tets", "links",
+    "order", "solver", "thr", "ms/iter", "(median)", "cpu ms", "proj/s/thread", "speedup", "/input",
+    "x box");
   for (const auto& named : meshes)
   {
     std::map<std::pair<int, int>, double> inputOrder; // (solver, threads) -> s/iteration
@@ -163,17 +167,21 @@ void throughput(const bench::Options& options, int maxThreads)
           const double perIteration = double(sim->links().size() + sim->volumes().size());
           const int steps = options.smoke ? 2 : perIteration > 3e5 ? 5 : 20;
           sim->step(1.0 / 120.0); // warm-up
-          std::vector<double> perIterationSeconds;
+          std::vector<double> perIterationSeconds, cpuPerIteration;
           for (int r = 0; r < options.repeat; ++r)
           {
             const double before = solveSeconds(*sim);
+            const double cpuBefore = bench::threadCpuSeconds();
             for (int s = 0; s < steps; ++s)
             {
               sim->step(1.0 / 120.0);
             }
-            perIterationSeconds.push_back((solveSeconds(*sim) - before) / (double(steps) * settings.iterations));
+            const double iterations = double(steps) * settings.iterations;
+            cpuPerIteration.push_back((bench::threadCpuSeconds() - cpuBefore) / iterations);
+            perIterationSeconds.push_back((solveSeconds(*sim) - before) / iterations);
           }
           const bench::MinMedian t = bench::minMedian(perIterationSeconds);
+          const double cpu = threads == 1 ? bench::minMedian(cpuPerIteration).min : 0.0;
           const std::uint64_t hash = bench::hashPositions(wrapped->positions());
           if (threads == 1)
           {
@@ -193,14 +201,15 @@ void throughput(const bench::Options& options, int maxThreads)
           const double overBox =
             boxPerProjection.count(key) ? t.min / perIteration / boxPerProjection[key] : 0.0;
           const double perThread = perIteration / t.min / threads;
-          std::printf("%-22s %7zu %7zu %-6s %-22s %3d %8.3f %8.3f %13.3g %7.2f %6.2f %6.2f %016llx%s\n",
+          std::printf("%-22s %7zu %7zu %-6s %-22s %3d %8.3f %8.3f %8.3f %13.3g %7.2f %6.2f %6.2f %016llx%s\n",
             named.name.c_str(), sim->volumes().size(), sim->links().size(),
             vertexOrderingName(ordering), solverName(solver), threads, 1e3 * t.min, 1e3 * t.median,
+            1e3 * cpu,
             perThread, oneThread / t.min, overInput, overBox, static_cast<unsigned long long>(hash),
             hash == firstHash ? "" : "  HASH DIFFERS");
           csv << named.name << ',' << sim->volumes().size() << ',' << sim->links().size() << ','
               << vertexOrderingName(ordering) << ',' << int(solver) << ',' << threads << ','
-              << 1e3 * t.min << ',' << 1e3 * t.median << ',' << perThread << ',' << oneThread / t.min
+              << 1e3 * t.min << ',' << 1e3 * t.median << ',' << 1e3 * cpu << ',' << perThread << ',' << oneThread / t.min
               << ',' << overInput << ',' << overBox << ',' << hash << '\n';
           if (hash != firstHash)
           {
