@@ -32,7 +32,9 @@
 
 #include "softbody/common/errors.h"
 #include "softbody/common/stepping.h"
+#include "softbody/massspring/mass_spring_reordered.h"
 #include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/mesh/reorder.h"
 #ifdef SOFTBODY_WITH_GPU
 #include "softbody/gpu/mass_spring_gpu_simulation.h"
 #endif
@@ -61,13 +63,17 @@ std::unique_ptr<softbody::Simulation> MakeGpuSimulation(const softbody::BodyDesc
   const softbody::SceneSettings& scene, std::string& renderer, std::string& whyNot)
 {
 #ifdef SOFTBODY_WITH_GPU
-  std::unique_ptr<softbody::gpu::MassSpringGpuSimulation> simulation =
-    softbody::gpu::tryCreateGpuMassSpring(body, scene, whyNot);
-  if (simulation)
-  {
-    renderer = simulation->glRenderer();
-  }
-  return simulation;
+  // Built on the body renumbered for locality, like the CPU stepper (mass_spring_reordered.h).
+  return softbody::buildReorderedMassSpring(body, scene, softbody::kDefaultVertexOrdering,
+    [&](softbody::BodyDescription stored) -> std::unique_ptr<softbody::Simulation> {
+      std::unique_ptr<softbody::gpu::MassSpringGpuSimulation> simulation =
+        softbody::gpu::tryCreateGpuMassSpring(stored, scene, whyNot);
+      if (simulation)
+      {
+        renderer = simulation->glRenderer();
+      }
+      return simulation;
+    });
 #else
   (void)body;
   (void)scene;
@@ -92,7 +98,8 @@ class vtkSoftBodyFilter::vtkInternals
 {
 public:
   std::unique_ptr<softbody::Simulation> Simulation;
-  /// Set when the simulation is PBD/XPBD (it is then also `Simulation`).
+  /// Set when the simulation is PBD/XPBD: the solver inside `Simulation` (which maps its
+  /// particles back to the input's order); its tet and link indices are the input's.
   softbody::PbdSimulation* Pbd = nullptr;
   vtkSoftBodyPbdAdapter PbdAdapter;
   /// The optional render surface's binding to the body (kept while both are unchanged).
@@ -402,14 +409,12 @@ bool vtkSoftBodyFilter::PrepareSimulation(
   if (settings.Method == PBD || settings.Method == XPBD)
   {
     std::string error;
-    std::unique_ptr<softbody::PbdSimulation> pbd = built.PbdAdapter.Create(settings, input, error);
-    if (!pbd)
+    built.Simulation = built.PbdAdapter.Create(settings, input, error, built.Pbd);
+    if (!built.Simulation)
     {
       vtkErrorMacro(<< error);
       return false;
     }
-    built.Pbd = pbd.get();
-    built.Simulation = std::move(pbd);
   }
   else if (!this->CreateMassSpring(input, settings, built))
   {
@@ -473,8 +478,8 @@ bool vtkSoftBodyFilter::CreateMassSpring(
   }
   if (!built.Simulation)
   {
-    built.Simulation =
-      std::make_unique<softbody::MassSpringSimulation>(std::move(body), settings.Scene);
+    // Vertices renumbered along a space-filling curve, outputs in the input's order.
+    built.Simulation = softbody::makeMassSpringSimulation(std::move(body), settings.Scene);
   }
   return true;
 }
@@ -733,9 +738,14 @@ void vtkSoftBodyFilter::FillConvergence(vtkTable* output)
 //------------------------------------------------------------------------------
 const softbody::ImplicitConvergence* vtkSoftBodyFilter::ImplicitSolveReport() const
 {
-  // Only the CPU mass-spring stepper has implicit integrators (the GPU falls back to it).
-  const auto* massSpring =
-    dynamic_cast<const softbody::MassSpringSimulation*>(this->Internals->Simulation.get());
+  // Only the CPU mass-spring stepper has implicit integrators (the GPU falls back to it); it
+  // may sit inside the renumbering wrapper, and a residual history needs no renumbering.
+  const softbody::Simulation* simulation = this->Internals->Simulation.get();
+  if (const auto* reordered = dynamic_cast<const softbody::ReorderedSimulation*>(simulation))
+  {
+    simulation = &reordered->inner();
+  }
+  const auto* massSpring = dynamic_cast<const softbody::MassSpringSimulation*>(simulation);
   return massSpring ? massSpring->implicitConvergence() : nullptr;
 }
 

@@ -16,8 +16,9 @@
 #include <cmath>
 
 //------------------------------------------------------------------------------
-std::unique_ptr<softbody::PbdSimulation> vtkSoftBodyPbdAdapter::Create(
-  const vtkSoftBodyCoreSettings& coreSettings, vtkUnstructuredGrid* input, std::string& error)
+std::unique_ptr<softbody::Simulation> vtkSoftBodyPbdAdapter::Create(
+  const vtkSoftBodyCoreSettings& coreSettings, vtkUnstructuredGrid* input, std::string& error,
+  softbody::PbdSimulation*& solver)
 {
   softbody::PbdBody body;
   error = vtkSoftBodyInputConversion::ConvertParticles(
@@ -38,7 +39,8 @@ std::unique_ptr<softbody::PbdSimulation> vtkSoftBodyPbdAdapter::Create(
       settings.particleRadius = radius->GetTuple1(0);
     }
   }
-  return std::make_unique<softbody::PbdSimulation>(std::move(body), settings);
+  return softbody::makePbdSimulation(
+    std::move(body), settings, softbody::kDefaultVertexOrdering, &solver);
 }
 
 //------------------------------------------------------------------------------

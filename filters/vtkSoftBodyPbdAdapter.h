@@ -8,6 +8,7 @@
 #ifndef vtkSoftBodyPbdAdapter_h
 #define vtkSoftBodyPbdAdapter_h
 
+#include "softbody/pbd/pbd_reordered.h"
 #include "softbody/pbd/pbd_simulation.h"
 
 #include "vtkType.h"
@@ -23,10 +24,12 @@ class vtkUnstructuredGrid;
 class vtkSoftBodyPbdAdapter
 {
 public:
-  /// Converts the input and builds the simulation. Returns null and sets `error` for input the
-  /// filter must refuse; throws softbody::InvalidInputError for what core refuses.
-  std::unique_ptr<softbody::PbdSimulation> Create(
-    const vtkSoftBodyCoreSettings& settings, vtkUnstructuredGrid* input, std::string& error);
+  /// Converts the input and builds the simulation (particles renumbered for locality, outputs
+  /// in the input's order) and sets `solver` to the PbdSimulation inside it. Returns null and
+  /// sets `error` for input the filter must refuse; throws softbody::InvalidInputError for what
+  /// core refuses.
+  std::unique_ptr<softbody::Simulation> Create(const vtkSoftBodyCoreSettings& settings,
+    vtkUnstructuredGrid* input, std::string& error, softbody::PbdSimulation*& solver);
 
   /// Cell array "Broken" (a broken link, or a tet with a broken edge) and, where any cell is
   /// broken, vtkGhostType with HIDDENCELL on those cells so renderings show the fragments apart.

@@ -7,13 +7,20 @@
 // On Mesa's llvmpipe (software rasterizer, no GPU) the GPU timings measure a CPU emulating a
 // GPU: read them as a correctness run, not as performance.
 //
+// Each mesh runs twice: as given and with its vertices renumbered along a Morton curve
+// (mesh/reorder.h), both compared with the CPU stepper on the same ordering.
+//
 // Usage: bench_gpu_mass_spring [--smoke] [--data <shared data dir>] [--csv <file>]
+//                              [--mesh <name or file>]
+// e.g. --mesh ellipsoid180k (a ~180k-tet TetGen ellipsoid, meshed in a few seconds) or a TetGen
+// .node/.ele, Gmsh .msh or closed .obj surface file.
 // Exit code 77 (CTest skip) when no EGL / OpenGL 4.3 context can be made.
 #include "bench_meshes.h"
 #include "bench_options.h"
 
 #include "softbody/common/errors.h"
 #include "softbody/gpu/mass_spring_gpu_simulation.h"
+#include "softbody/massspring/mass_spring_reordered.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 
 #include <algorithm>
@@ -112,10 +119,11 @@ Result measure(const TetMesh& mesh, Simulation& cpu, Simulation& gpu, bool smoke
 int main(int argc, char** argv)
 {
   const bench::Options options = bench::parseOptions(argc, argv, "bench_gpu_mass_spring", "bench_gpu_mass_spring.csv");
-  const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir);
+  const std::vector<bench::NamedMesh> meshes =
+    bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
 
   std::ofstream csv(options.csv);
-  csv << "mesh,vertices,tets,steps,cpu_ms_per_step,gpu_ms_per_step,gpu_speedup,"
+  csv << "mesh,vertices,tets,ordering,steps,cpu_ms_per_step,gpu_ms_per_step,gpu_speedup,"
          "download_ms,max_relative_difference,bitwise_equal,gl_renderer\n";
   bool printedHeader = false;
   for (const auto& named : meshes)
@@ -123,65 +131,80 @@ int main(int argc, char** argv)
     BodyDescription body;
     body.mesh = named.mesh;
     const SceneSettings scene = sceneFor(named.mesh);
-    std::string whyNot;
-    std::unique_ptr<gpu::MassSpringGpuSimulation> gpuSimulation;
-    try
+    // Both steppers on the same body, first as given, then renumbered for locality; their
+    // outputs come back in input order either way (mass_spring_reordered.h).
+    for (VertexOrdering ordering : { VertexOrdering::Input, kDefaultVertexOrdering })
     {
-      gpuSimulation = gpu::tryCreateGpuMassSpring(body, scene, whyNot);
-    }
-    catch (const std::exception& error)
-    {
-      std::printf("%-22s skipped: %s\n", named.name.c_str(), error.what());
-      continue;
-    }
-    if (!gpuSimulation)
-    {
-      if (whyNot.rfind("No OpenGL", 0) == 0)
+      std::string whyNot, renderer, version;
+      std::unique_ptr<Simulation> gpuSimulation;
+      try
       {
-        std::printf("skipped: %s\n", whyNot.c_str());
-        return 77;
+        gpuSimulation = buildReorderedMassSpring(body, scene, ordering,
+          [&](BodyDescription stored) -> std::unique_ptr<Simulation> {
+            std::unique_ptr<gpu::MassSpringGpuSimulation> made =
+              gpu::tryCreateGpuMassSpring(stored, scene, whyNot);
+            if (made)
+            {
+              renderer = made->glRenderer();
+              version = made->glVersion();
+            }
+            return made;
+          });
       }
-      std::printf("%-22s skipped on the GPU: %s\n", named.name.c_str(), whyNot.c_str());
-      continue;
-    }
-    if (!printedHeader)
-    {
-      const std::string& renderer = gpuSimulation->glRenderer();
-      std::printf("GL renderer: %s (%s)\n", renderer.c_str(), gpuSimulation->glVersion().c_str());
-      if (renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos)
+      catch (const std::exception& error)
       {
-        std::printf("note: software rendering (Mesa on the CPU): GPU timings below are a "
-                    "correctness run, not GPU performance.\n");
+        std::printf("%-22s skipped: %s\n", named.name.c_str(), error.what());
+        break;
       }
-      std::printf("\n%-22s %8s %8s %6s %10s %10s %8s %10s %12s\n", "mesh", "tets", "verts", "steps",
-        "cpu ms", "gpu ms", "speedup", "dl ms", "max rel diff");
-      printedHeader = true;
-    }
-    MassSpringSimulation cpuSimulation(body, scene);
-    Result r;
-    try
-    {
-      r = measure(named.mesh, cpuSimulation, *gpuSimulation, options.smoke);
-    }
-    catch (const std::exception& error)
-    {
-      std::printf("%-22s failed: %s\n", named.name.c_str(), error.what());
-      return 1;
-    }
-    std::printf("%-22s %8zu %8zu %6d %10.3f %10.3f %8.2f %10.3f %12.3g%s\n", named.name.c_str(),
-      named.mesh.tets.size(), named.mesh.points.size(), r.steps, 1e3 * r.cpuSecondsPerStep,
-      1e3 * r.gpuSecondsPerStep, r.cpuSecondsPerStep / r.gpuSecondsPerStep, 1e3 * r.downloadSeconds,
-      r.relativeDifference, r.bitwiseEqual ? "  (bitwise equal)" : "");
-    csv << named.name << ',' << named.mesh.points.size() << ',' << named.mesh.tets.size() << ','
-        << r.steps << ',' << 1e3 * r.cpuSecondsPerStep << ',' << 1e3 * r.gpuSecondsPerStep << ','
-        << r.cpuSecondsPerStep / r.gpuSecondsPerStep << ',' << 1e3 * r.downloadSeconds << ','
-        << r.relativeDifference << ',' << (r.bitwiseEqual ? 1 : 0) << ",\""
-        << gpuSimulation->glRenderer() << "\"\n";
-    if (!(r.relativeDifference <= 1e-9))
-    {
-      std::fprintf(stderr, "error: GPU and CPU differ by %g of the body size (tolerance 1e-9)\n",
-        r.relativeDifference);
-      return 1;
+      if (!gpuSimulation)
+      {
+        if (whyNot.rfind("No OpenGL", 0) == 0)
+        {
+          std::printf("skipped: %s\n", whyNot.c_str());
+          return 77;
+        }
+        std::printf("%-22s skipped on the GPU: %s\n", named.name.c_str(), whyNot.c_str());
+        break;
+      }
+      if (!printedHeader)
+      {
+        std::printf("GL renderer: %s (%s)\n", renderer.c_str(), version.c_str());
+        if (renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos)
+        {
+          std::printf("note: software rendering (Mesa on the CPU): GPU timings below are a "
+                      "correctness run, not GPU performance.\n");
+        }
+        std::printf("\n%-22s %8s %8s %-6s %6s %10s %10s %8s %10s %12s\n", "mesh", "tets", "verts",
+          "order", "steps", "cpu ms", "gpu ms", "speedup", "dl ms", "max rel diff");
+        printedHeader = true;
+      }
+      std::unique_ptr<Simulation> cpuSimulation = makeMassSpringSimulation(body, scene, ordering);
+      Result r;
+      try
+      {
+        r = measure(named.mesh, *cpuSimulation, *gpuSimulation, options.smoke);
+      }
+      catch (const std::exception& error)
+      {
+        std::printf("%-22s failed: %s\n", named.name.c_str(), error.what());
+        return 1;
+      }
+      std::printf("%-22s %8zu %8zu %-6s %6d %10.3f %10.4f %8.2f %10.3f %12.3g%s\n",
+        named.name.c_str(), named.mesh.tets.size(), named.mesh.points.size(),
+        vertexOrderingName(ordering), r.steps, 1e3 * r.cpuSecondsPerStep, 1e3 * r.gpuSecondsPerStep,
+        r.cpuSecondsPerStep / r.gpuSecondsPerStep, 1e3 * r.downloadSeconds, r.relativeDifference,
+        r.bitwiseEqual ? "  (bitwise equal)" : "");
+      csv << named.name << ',' << named.mesh.points.size() << ',' << named.mesh.tets.size() << ','
+          << vertexOrderingName(ordering) << ',' << r.steps << ',' << 1e3 * r.cpuSecondsPerStep << ','
+          << 1e3 * r.gpuSecondsPerStep << ',' << r.cpuSecondsPerStep / r.gpuSecondsPerStep << ','
+          << 1e3 * r.downloadSeconds << ',' << r.relativeDifference << ',' << (r.bitwiseEqual ? 1 : 0)
+          << ",\"" << renderer << "\"\n";
+      if (!(r.relativeDifference <= 1e-9))
+      {
+        std::fprintf(stderr, "error: GPU and CPU differ by %g of the body size (tolerance 1e-9)\n",
+          r.relativeDifference);
+        return 1;
+      }
     }
   }
   std::printf("\nCSV written to %s\n", options.csv.c_str());

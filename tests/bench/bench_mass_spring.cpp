@@ -1,18 +1,25 @@
-// Mass-spring step cost on meshes from ~1k to ~150k tets, at 1 thread and at all threads.
+// Mass-spring step cost on boxes from ~1k to ~150k tets and on real meshes (the public tet
+// meshes, TetGen meshes of the public surfaces and of a ~180k-tet ellipsoid), each with its
+// vertices in input order, along a Morton curve and in reverse Cuthill-McKee order
+// (mesh/reorder.h), at 1 thread and at all threads.
 //
 // For each mesh and thread count it prints ms per step, tets per second, the speed-up over one
 // thread, and the ratio of the measured step time to a memory-bandwidth bound: the bytes a step
 // must move at least (modelled below from the data layout) divided by the triad bandwidth the
 // same process measures with the same thread count. A ratio near 1 means the step runs at the
 // speed of memory; far above 1 means compute or latency bound. A hash of the final state shows
-// that every thread count computed the same thing. Results also go to CSV.
+// that every thread count computed the same thing. Each row also gives its time over the same
+// mesh in input order (the gain of reordering, measured in the same run) and its per-tet time
+// over the largest box's in its generated order (same threads). Results also go to CSV.
 //
 // Usage: bench_mass_spring [--smoke] [--data <shared data dir>] [--csv <file>]
+//                          [--mesh <name or file>] [--repeat <timed runs per case>]
 #include "bench_meshes.h"
 #include "bench_options.h"
 #include "memory_bandwidth.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/massspring/mass_spring_reordered.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 
 #include <tbb/global_control.h>
@@ -23,6 +30,8 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <memory>
 #include <string>
 
 using namespace softbody;
@@ -45,13 +54,17 @@ double modelledBytesPerStep(std::size_t vertices, std::size_t edges, std::size_t
 
 struct Measurement
 {
-  double secondsPerStep = 0.0;
+  bench::MinMedian secondsPerStep;
+  double cpuSecondsPerStep = 0.0; ///< least CPU time of the calling thread per step
+  double setupSeconds = 0.0;
   std::uint64_t hash = 0;
 };
 
-/// Times `steps` steps (0: choose a count worth ~0.3 s from a short probe, returned in
-/// `steps`). Every thread count must run the same number of steps for the hashes to compare.
-Measurement measure(const TetMesh& mesh, bool smoke, int& steps)
+/// Builds the stepper on the mesh renumbered by `ordering` and times `repeat` runs of `steps`
+/// steps (0: choose a count worth ~0.3 s from a short probe, returned in `steps`). Every thread
+/// count must run the same number of steps for the hashes to compare. The hash is of the
+/// positions in input order.
+Measurement measure(const TetMesh& mesh, VertexOrdering ordering, bool smoke, int repeat, int& steps)
 {
   BodyDescription body;
   body.mesh = mesh;
@@ -63,21 +76,33 @@ Measurement measure(const TetMesh& mesh, bool smoke, int& steps)
   SceneSettings scene;
   scene.floorEnabled = true;
   scene.floor.origin = Vec3(0, 0, lowest - 1e-3);
-  MassSpringSimulation sim(body, scene);
-  const double h = sim.stepSize();
-  sim.advance(10 * h); // warm-up: caches, TBB threads, page faults
+  const auto setupStart = std::chrono::steady_clock::now();
+  std::unique_ptr<Simulation> sim = makeMassSpringSimulation(body, scene, ordering);
+  Measurement result;
+  result.setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
+  const double h = sim->stepSize();
+  sim->advance(10 * h); // warm-up: caches, TBB threads, page faults
 
   const auto probeStart = std::chrono::steady_clock::now();
-  sim.advance(sim.time() + 5 * h);
+  sim->advance(sim->time() + 5 * h);
   const double probe = std::chrono::duration<double>(std::chrono::steady_clock::now() - probeStart).count() / 5;
   if (steps == 0)
   {
     steps = smoke ? 5 : std::max(20, static_cast<int>(0.3 / probe));
   }
-  const auto start = std::chrono::steady_clock::now();
-  sim.advance(sim.time() + steps * h);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return { seconds / steps, bench::hashPositions(sim.positions()) };
+  std::vector<double> perStep, cpuPerStep;
+  for (int r = 0; r < repeat; ++r)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    const double cpuStart = bench::threadCpuSeconds();
+    sim->advance(sim->time() + steps * h);
+    cpuPerStep.push_back((bench::threadCpuSeconds() - cpuStart) / steps);
+    perStep.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / steps);
+  }
+  result.secondsPerStep = bench::minMedian(perStep);
+  result.cpuSecondsPerStep = bench::minMedian(cpuPerStep).min;
+  result.hash = bench::hashPositions(sim->positions());
+  return result;
 }
 
 } // namespace
@@ -101,52 +126,86 @@ int main(int argc, char** argv)
     std::printf("triad bandwidth, %d thread(s): %.2f GB/s\n", threads, bandwidth.back() / 1e9);
   }
 
-  const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir);
+  const std::vector<bench::NamedMesh> meshes =
+    bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
+  const bench::NamedMesh* box = bench::referenceBox(meshes);
+  const std::vector<VertexOrdering> orderings = { VertexOrdering::Input, VertexOrdering::Morton,
+    VertexOrdering::ReverseCuthillMcKee };
+  // Seconds per tet-step of the reference box in its generated order (already perfectly
+  // local), per thread count: every row is compared with it ("x box": its per-tet time over the
+  // box's at the same thread count).
+  std::map<int, double> boxPerTet;
 
   std::ofstream csv(options.csv);
-  csv << "mesh,vertices,edges,tets,threads,ms_per_step,tets_per_second,speedup,"
-         "modelled_MB_per_step,bandwidth_GBps,time_over_bandwidth_bound,state_hash\n";
-  std::printf("\n%-22s %8s %8s %3s %10s %12s %8s %10s %16s\n", "mesh", "tets", "verts", "thr",
-    "ms/step", "tets/s", "speedup", "x bw bound", "hash");
+  csv << "mesh,vertices,edges,tets,ordering,threads,ms_per_step,ms_per_step_median,cpu_ms_per_step,setup_ms,"
+         "tets_per_second,speedup,modelled_MB_per_step,bandwidth_GBps,time_over_bandwidth_bound,"
+         "time_over_input_order,per_tet_time_over_box,state_hash\n";
+  std::printf("\nms/step: minimum (median) of %d run(s), wall time; 'cpu ms': least CPU time of "
+              "the calling thread per step (1 thread only; leaves out time other processes held "
+              "the core); 'x bw': time over the bandwidth bound; "
+              "'/input': time over the same mesh in input order; 'x box': per-tet time over %s's in input order\n",
+    options.repeat, box ? box->name.c_str() : "(no box)");
+  std::printf("%-22s %7s %6s %-6s %3s %9s %9s %8s %8s %10s %7s %6s %6s %6s %16s\n", "mesh", "tets",
+    "verts", "order", "thr", "ms/step", "(median)", "cpu ms", "setup ms", "tets/s", "speedup",
+    "x bw", "/input", "x box", "hash");
   for (const auto& named : meshes)
   {
-    double oneThread = 0.0;
-    std::uint64_t firstHash = 0;
+    const Topology topology = buildTopology(named.mesh.points.size(), named.mesh.tets);
+    const double bytes = modelledBytesPerStep(named.mesh.points.size(), topology.edges.size(), named.mesh.tets.size());
+    const double tets = double(named.mesh.tets.size());
     int steps = 0;
-    for (std::size_t k = 0; k < threadCounts.size(); ++k)
+    std::map<int, double> inputOrder; // threads -> s/step in input order
+    for (VertexOrdering ordering : orderings)
     {
-      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threadCounts[k]);
-      Measurement m;
-      try
+      double oneThread = 0.0;
+      std::uint64_t firstHash = 0;
+      for (std::size_t k = 0; k < threadCounts.size(); ++k)
       {
-        m = measure(named.mesh, options.smoke, steps);
-      }
-      catch (const std::exception& error)
-      {
-        std::printf("%-22s skipped: %s\n", named.name.c_str(), error.what());
-        break;
-      }
-      const Topology topology = buildTopology(named.mesh.points.size(), named.mesh.tets);
-      const double bytes = modelledBytesPerStep(named.mesh.points.size(), topology.edges.size(), named.mesh.tets.size());
-      const double bound = bytes / bandwidth[k];
-      if (k == 0)
-      {
-        oneThread = m.secondsPerStep;
-        firstHash = m.hash;
-      }
-      const double tetsPerSecond = double(named.mesh.tets.size()) / m.secondsPerStep;
-      std::printf("%-22s %8zu %8zu %3d %10.3f %12.3g %8.2f %10.2f %016llx%s\n", named.name.c_str(),
-        named.mesh.tets.size(), named.mesh.points.size(), threadCounts[k], 1e3 * m.secondsPerStep,
-        tetsPerSecond, oneThread / m.secondsPerStep, m.secondsPerStep / bound,
-        static_cast<unsigned long long>(m.hash), m.hash == firstHash ? "" : "  HASH DIFFERS");
-      csv << named.name << ',' << named.mesh.points.size() << ',' << topology.edges.size() << ','
-          << named.mesh.tets.size() << ',' << threadCounts[k] << ',' << 1e3 * m.secondsPerStep << ','
-          << tetsPerSecond << ',' << oneThread / m.secondsPerStep << ',' << bytes / 1e6 << ','
-          << bandwidth[k] / 1e9 << ',' << m.secondsPerStep / bound << ',' << m.hash << '\n';
-      if (m.hash != firstHash)
-      {
-        std::fprintf(stderr, "error: the state differs between thread counts\n");
-        return 1;
+        const int threads = threadCounts[k];
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        Measurement m;
+        try
+        {
+          m = measure(named.mesh, ordering, options.smoke, options.repeat, steps);
+        }
+        catch (const std::exception& error)
+        {
+          std::printf("%-22s skipped: %s\n", named.name.c_str(), error.what());
+          break;
+        }
+        const double t = m.secondsPerStep.min;
+        const double bound = bytes / bandwidth[k];
+        if (k == 0)
+        {
+          oneThread = t;
+          firstHash = m.hash;
+        }
+        if (ordering == VertexOrdering::Input)
+        {
+          inputOrder[threads] = t;
+        }
+        if (box == &named && ordering == VertexOrdering::Input)
+        {
+          boxPerTet[threads] = t / tets;
+        }
+        const double overInput = inputOrder.count(threads) ? t / inputOrder[threads] : 0.0;
+        const double overBox = boxPerTet.count(threads) ? (t / tets) / boxPerTet[threads] : 0.0;
+        std::printf("%-22s %7zu %6zu %-6s %3d %9.3f %9.3f %8.3f %8.1f %10.3g %7.2f %6.2f %6.2f %6.2f %016llx%s\n",
+          named.name.c_str(), named.mesh.tets.size(), named.mesh.points.size(),
+          vertexOrderingName(ordering), threads, 1e3 * t, 1e3 * m.secondsPerStep.median,
+          threads == 1 ? 1e3 * m.cpuSecondsPerStep : 0.0, 1e3 * m.setupSeconds, tets / t, oneThread / t, t / bound, overInput, overBox,
+          static_cast<unsigned long long>(m.hash), m.hash == firstHash ? "" : "  HASH DIFFERS");
+        csv << named.name << ',' << named.mesh.points.size() << ',' << topology.edges.size() << ','
+            << named.mesh.tets.size() << ',' << vertexOrderingName(ordering) << ',' << threads << ','
+            << 1e3 * t << ',' << 1e3 * m.secondsPerStep.median << ',' << 1e3 * m.cpuSecondsPerStep << ','
+            << 1e3 * m.setupSeconds << ','
+            << tets / t << ',' << oneThread / t << ',' << bytes / 1e6 << ',' << bandwidth[k] / 1e9
+            << ',' << t / bound << ',' << overInput << ',' << overBox << ',' << m.hash << '\n';
+        if (m.hash != firstHash)
+        {
+          std::fprintf(stderr, "error: the state differs between thread counts\n");
+          return 1;
+        }
       }
     }
   }

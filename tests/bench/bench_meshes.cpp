@@ -1,6 +1,8 @@
 #include "bench_meshes.h"
 
 #include "softbody/mesh/mesh_generators.h"
+#include "softbody/mesh/mesh_io.h"
+#include "softbody/mesh/tetrahedralize.h"
 
 #include <tetgen.h>
 #include <vtkCellArray.h>
@@ -10,8 +12,14 @@
 #include <vtkUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
 
 namespace softbody::bench
 {
@@ -93,7 +101,7 @@ std::vector<NamedMesh> generatedMeshes(bool smoke)
   return meshes;
 }
 
-std::vector<NamedMesh> sharedMeshes(const std::string& dataDir)
+std::vector<NamedMesh> sharedMeshes(const std::string& dataDir, bool smoke)
 {
   std::vector<NamedMesh> meshes;
   const std::string armadillo = dataDir + "/PositionBasedDynamics/armadillo_4k";
@@ -123,7 +131,255 @@ std::vector<NamedMesh> sharedMeshes(const std::string& dataDir)
     reader->Update();
     meshes.push_back({ "cylinderPDMS12724Vol", fromVtk(reader->GetOutput()) });
   }
+  if (!smoke)
+  {
+    for (const char* name : { "bunny", "sphere5K", "Armadillo13K" })
+    {
+      const std::string path = dataDir + "/IPC/" + name + ".msh";
+      if (!fileExists(path))
+      {
+        std::cout << "note: " << path << " not found; skipped\n";
+        continue;
+      }
+      meshes.push_back({ std::string("IPC_") + name, readGmshMesh(path) });
+    }
+  }
   return meshes;
+}
+
+void readObjSurface(const std::string& path, std::vector<Vec3>& points,
+  std::vector<std::array<std::int32_t, 3>>& triangles)
+{
+  std::ifstream in(path);
+  if (!in)
+  {
+    throw std::runtime_error("cannot open " + path);
+  }
+  std::string line;
+  while (std::getline(in, line))
+  {
+    std::istringstream words(line);
+    std::string kind;
+    words >> kind;
+    if (kind == "v")
+    {
+      double x = 0, y = 0, z = 0;
+      words >> x >> y >> z;
+      points.emplace_back(x, y, z);
+    }
+    else if (kind == "f")
+    {
+      std::vector<std::int32_t> corners;
+      std::string corner;
+      while (words >> corner)
+      {
+        const long index = std::stol(corner.substr(0, corner.find('/')));
+        corners.push_back(static_cast<std::int32_t>(index > 0 ? index - 1 : long(points.size()) + index));
+      }
+      for (std::size_t k = 2; k < corners.size(); ++k)
+      {
+        triangles.push_back({ corners[0], corners[k - 1], corners[k] });
+      }
+    }
+  }
+}
+
+namespace
+{
+/// An icosphere: the icosahedron with each triangle split in four `levels` times, on the unit
+/// sphere, outward oriented.
+void icosphere(int levels, std::vector<Vec3>& points, std::vector<std::array<std::int32_t, 3>>& triangles)
+{
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  points = { { -1, t, 0 }, { 1, t, 0 }, { -1, -t, 0 }, { 1, -t, 0 }, { 0, -1, t }, { 0, 1, t },
+    { 0, -1, -t }, { 0, 1, -t }, { t, 0, -1 }, { t, 0, 1 }, { -t, 0, -1 }, { -t, 0, 1 } };
+  for (Vec3& p : points)
+  {
+    p.normalize();
+  }
+  triangles = { { 0, 11, 5 }, { 0, 5, 1 }, { 0, 1, 7 }, { 0, 7, 10 }, { 0, 10, 11 }, { 1, 5, 9 },
+    { 5, 11, 4 }, { 11, 10, 2 }, { 10, 7, 6 }, { 7, 1, 8 }, { 3, 9, 4 }, { 3, 4, 2 }, { 3, 2, 6 },
+    { 3, 6, 8 }, { 3, 8, 9 }, { 4, 9, 5 }, { 2, 4, 11 }, { 6, 2, 10 }, { 8, 6, 7 }, { 9, 8, 1 } };
+  for (int level = 0; level < levels; ++level)
+  {
+    std::map<std::pair<std::int32_t, std::int32_t>, std::int32_t> middle;
+    auto mid = [&](std::int32_t a, std::int32_t b) {
+      const auto key = std::minmax(a, b);
+      auto it = middle.find(key);
+      if (it != middle.end())
+      {
+        return it->second;
+      }
+      points.push_back((points[std::size_t(a)] + points[std::size_t(b)]).normalized());
+      const auto index = static_cast<std::int32_t>(points.size() - 1);
+      middle[key] = index;
+      return index;
+    };
+    std::vector<std::array<std::int32_t, 3>> finer;
+    for (const auto& tri : triangles)
+    {
+      const std::int32_t a = mid(tri[0], tri[1]), b = mid(tri[1], tri[2]), c = mid(tri[2], tri[0]);
+      finer.push_back({ tri[0], a, c });
+      finer.push_back({ tri[1], b, a });
+      finer.push_back({ tri[2], c, b });
+      finer.push_back({ a, b, c });
+    }
+    triangles = std::move(finer);
+  }
+}
+
+NamedMesh tetgenOfSurface(const std::string& name, const std::string& path)
+{
+  std::vector<Vec3> points;
+  std::vector<std::array<std::int32_t, 3>> triangles;
+  readObjSurface(path, points, triangles);
+  return { name, tetrahedralizeSurface(points, triangles, TetrahedralizeOptions{}) };
+}
+} // namespace
+
+TetMesh ellipsoidMesh(double targetTets)
+{
+  std::vector<Vec3> points;
+  std::vector<std::array<std::int32_t, 3>> triangles;
+  icosphere(4, points, triangles);
+  for (Vec3& p : points)
+  {
+    p = Vec3(0.20 * p.x(), 0.12 * p.y(), 0.08 * p.z() + 0.10);
+  }
+  // TetGen's tets average about 0.38 of the volume bound here (measured); one correction
+  // step lands within a few percent of the target.
+  const double volume = 4.0 / 3.0 * M_PI * 0.20 * 0.12 * 0.08;
+  TetrahedralizeOptions options;
+  options.maxTetVolume = volume / targetTets / 0.38;
+  TetMesh mesh = tetrahedralizeSurface(points, triangles, options);
+  const double ratio = double(mesh.tets.size()) / targetTets;
+  if (std::abs(ratio - 1.0) > 0.05)
+  {
+    options.maxTetVolume *= ratio;
+    mesh = tetrahedralizeSurface(points, triangles, options);
+  }
+  return mesh;
+}
+
+std::vector<NamedMesh> realMeshes(const std::string& dataDir, bool smoke)
+{
+  std::vector<NamedMesh> meshes;
+  const std::string spot = dataDir + "/keenan-spot/spot_triangulated.obj";
+  const std::string bunny = dataDir + "/PositionBasedDynamics/bunny_10k.obj";
+  for (const auto& [name, path, inSmoke] : { std::tuple{ "tetgen_spot", spot, true },
+         std::tuple{ "tetgen_bunny_10k", bunny, false } })
+  {
+    if (smoke && !inSmoke)
+    {
+      continue;
+    }
+    if (!fileExists(path))
+    {
+      std::cout << "note: " << path << " not found; " << name << " skipped\n";
+      continue;
+    }
+    try
+    {
+      meshes.push_back(tetgenOfSurface(name, path));
+    }
+    catch (const std::exception& error)
+    {
+      std::cout << "note: " << name << " not meshed: " << error.what() << "\n";
+    }
+  }
+  if (!smoke)
+  {
+    meshes.push_back({ "ellipsoid180k", ellipsoidMesh(180000.0) });
+  }
+  return meshes;
+}
+
+std::vector<NamedMesh> benchmarkMeshes(bool smoke, const std::string& dataDir, const std::string& spec)
+{
+  if (!spec.empty())
+  {
+    return { meshFromSpec(spec, dataDir) };
+  }
+  std::vector<NamedMesh> meshes = generatedMeshes(smoke);
+  for (auto& m : sharedMeshes(dataDir, smoke))
+  {
+    meshes.push_back(std::move(m));
+  }
+  for (auto& m : realMeshes(dataDir, smoke))
+  {
+    meshes.push_back(std::move(m));
+  }
+  return meshes;
+}
+
+NamedMesh meshFromSpec(const std::string& spec, const std::string& dataDir)
+{
+  auto endsWith = [&](const std::string& suffix) {
+    return spec.size() >= suffix.size() && spec.compare(spec.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  if (spec.rfind("ellipsoid", 0) == 0 && endsWith("k"))
+  {
+    const double thousands = std::stod(spec.substr(9, spec.size() - 10));
+    return { spec, ellipsoidMesh(1000.0 * thousands) };
+  }
+  if (fileExists(spec) || fileExists(spec + ".node"))
+  {
+    std::string base = spec;
+    const std::size_t slash = base.find_last_of('/');
+    const std::string file = slash == std::string::npos ? base : base.substr(slash + 1);
+    if (endsWith(".msh"))
+    {
+      return { file, readGmshMesh(spec) };
+    }
+    if (endsWith(".obj"))
+    {
+      return tetgenOfSurface("tetgen_" + file, spec);
+    }
+    return { file, readTetGenMesh(spec) };
+  }
+  for (bool smoke : { true, false })
+  {
+    for (auto& m : generatedMeshes(smoke))
+    {
+      if (m.name == spec)
+      {
+        return m;
+      }
+    }
+  }
+  for (auto& m : sharedMeshes(dataDir, false))
+  {
+    if (m.name == spec || m.name == "IPC_" + spec)
+    {
+      return m;
+    }
+  }
+  for (auto& m : realMeshes(dataDir, true))
+  {
+    if (m.name == spec)
+    {
+      return m;
+    }
+  }
+  if (spec == "tetgen_bunny_10k")
+  {
+    return tetgenOfSurface(spec, dataDir + "/PositionBasedDynamics/bunny_10k.obj");
+  }
+  throw std::runtime_error("no mesh named " + spec + " (a benchmark mesh's name, ellipsoidNk, "
+                           "or a .node/.ele, .msh or .obj file)");
+}
+
+const NamedMesh* referenceBox(const std::vector<NamedMesh>& meshes)
+{
+  const NamedMesh* box = nullptr;
+  for (const NamedMesh& m : meshes)
+  {
+    if (m.name.rfind("box_", 0) == 0 && (!box || m.mesh.tets.size() > box->mesh.tets.size()))
+    {
+      box = &m;
+    }
+  }
+  return box;
 }
 
 } // namespace softbody::bench

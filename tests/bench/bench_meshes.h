@@ -4,6 +4,8 @@
 
 #include "softbody/mesh/tet_mesh.h"
 
+#include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -18,18 +20,37 @@ struct NamedMesh
 
 std::vector<NamedMesh> generatedMeshes(bool smoke);
 
-/// Meshes found under dataDir; prints a note for each one that is missing or unreadable.
-std::vector<NamedMesh> sharedMeshes(const std::string& dataDir);
+/// Meshes found under dataDir; prints a note for each one that is missing or unreadable. The
+/// smoke run reads the small ones only (PositionBasedDynamics and SOFA); the full run also IPC's
+/// bunny (19k tets), sphere5K (28k) and Armadillo13K (55k).
+std::vector<NamedMesh> sharedMeshes(const std::string& dataDir, bool smoke = false);
 
-/// The generated meshes followed by the shared ones: what every benchmark runs on.
-inline std::vector<NamedMesh> benchmarkMeshes(bool smoke, const std::string& dataDir)
-{
-  std::vector<NamedMesh> meshes = generatedMeshes(smoke);
-  for (auto& m : sharedMeshes(dataDir))
-  {
-    meshes.push_back(std::move(m));
-  }
-  return meshes;
-}
+/// Real meshes as users make them: core's TetGen wrapper (TetGen's default quality, q 2.0) on
+/// the public surfaces spot_triangulated.obj and (full run) bunny_10k.obj, and (full run) a
+/// ~180k-tet TetGen mesh of an ellipsoid (ellipsoidMesh). Notes what it cannot find.
+std::vector<NamedMesh> realMeshes(const std::string& dataDir, bool smoke);
+
+/// A TetGen mesh of an ellipsoid of semi-axes 0.20 x 0.12 x 0.08 m (an icosphere of 5120
+/// triangles, scaled), with TetGen's default quality and a volume bound chosen for about
+/// `targetTets` tets. "ellipsoid180k": 180,000.
+TetMesh ellipsoidMesh(double targetTets);
+
+/// Reads a closed triangle surface from an OBJ file (v and f lines; polygons as fans).
+void readObjSurface(const std::string& path, std::vector<Vec3>& points,
+  std::vector<std::array<std::int32_t, 3>>& triangles);
+
+/// One mesh by name or path: "ellipsoid180k" (or "ellipsoidNk" for N thousand tets), the name
+/// of any benchmark mesh (e.g. "box_151200", "tetgen_bunny_10k", "Armadillo13K"), or a file:
+/// TetGen .node/.ele (either, or their base), Gmsh .msh, or a closed .obj surface
+/// (tetrahedralized here). Throws std::runtime_error when it finds none.
+NamedMesh meshFromSpec(const std::string& spec, const std::string& dataDir);
+
+/// The generated meshes followed by the shared and the real ones: what every benchmark runs on;
+/// only the one `spec` names (meshFromSpec) when it is not empty.
+std::vector<NamedMesh> benchmarkMeshes(bool smoke, const std::string& dataDir, const std::string& spec = {});
+
+/// The generated box whose per-tet cost real meshes are compared with: the largest box of the
+/// run (box_151200 in a full run); null when there is none.
+const NamedMesh* referenceBox(const std::vector<NamedMesh>& meshes);
 
 } // namespace softbody::bench

@@ -4,6 +4,8 @@
 
 #include "softbody/common/geometry.h"
 
+#include <algorithm>
+#include <ctime>
 #include <cstdint>
 #include <cstdlib>
 #include <iostream>
@@ -18,9 +20,13 @@ struct Options
   bool smoke = false;                  ///< --smoke: a few seconds, for CTest
   std::string dataDir = "../shared/data"; ///< --data: the public meshes, when present
   std::string csv;                     ///< --csv: output file (or prefix)
+  /// --mesh: only this mesh (bench_meshes.h meshFromSpec: "ellipsoid180k", a benchmark mesh's
+  /// name, or a .node/.ele, .msh or .obj file)
+  std::string mesh;
+  int repeat = 1; ///< --repeat: timed runs per case; the minimum and the median are printed
 };
 
-/// Parses --smoke, --data DIR, --csv PATH; prints the usage and exits on anything else.
+/// Parses --smoke, --data DIR, --csv PATH, --mesh SPEC, --repeat N; prints the usage and exits on anything else.
 inline Options parseOptions(int argc, char** argv, const std::string& program, const std::string& defaultCsv)
 {
   Options options;
@@ -40,9 +46,18 @@ inline Options parseOptions(int argc, char** argv, const std::string& program, c
     {
       options.csv = argv[++i];
     }
+    else if (arg == "--mesh" && i + 1 < argc)
+    {
+      options.mesh = argv[++i];
+    }
+    else if (arg == "--repeat" && i + 1 < argc && std::atoi(argv[i + 1]) >= 1)
+    {
+      options.repeat = std::atoi(argv[++i]);
+    }
     else
     {
-      std::cerr << "usage: " << program << " [--smoke] [--data DIR] [--csv PATH]\n";
+      std::cerr << "usage: " << program
+                << " [--smoke] [--data DIR] [--csv PATH] [--mesh NAME|FILE] [--repeat N]\n";
       std::exit(2);
     }
   }
@@ -61,4 +76,35 @@ inline std::uint64_t hashPositions(const std::vector<Vec3>& x)
   return hash;
 }
 
+} // namespace softbody::bench
+
+namespace softbody::bench
+{
+/// CPU time of the calling thread [s]. On a shared machine a single-threaded run's CPU time
+/// leaves out the time other processes held the core (its wall time does not), so 1-thread rows
+/// also print it; with several threads the work runs on TBB's workers too, and only wall time
+/// means anything.
+inline double threadCpuSeconds()
+{
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+/// The minimum and the median of some timings.
+struct MinMedian
+{
+  double min = 0.0;
+  double median = 0.0;
+};
+inline MinMedian minMedian(std::vector<double> values)
+{
+  std::sort(values.begin(), values.end());
+  if (values.empty())
+  {
+    return {};
+  }
+  const std::size_t n = values.size();
+  return { values.front(), n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]) };
+}
 } // namespace softbody::bench

@@ -6,16 +6,21 @@
 //    (colored) Gauss-Seidel at 1 and all threads. Time per iteration is the solver's own stage
 //    time (the residual evaluation is timed apart), so "residual against time" is what a user
 //    pays. Written as CSV; tests/bench/plot_pbd_convergence.py draws the PNG.
-// 2. XPBD throughput on the benchmark tet meshes: constraint projections (edges + tets) per
-//    second per thread, with the speed-up of the colored solver from 1 to all threads, and a
-//    state hash showing both thread counts computed the same thing.
+// 2. XPBD throughput on the benchmark tet meshes (boxes, the public tet meshes, TetGen meshes of
+//    the public surfaces and of a ~180k-tet ellipsoid), with the particles in input order,
+//    along a Morton curve and in reverse Cuthill-McKee order: constraint projections (edges +
+//    tets) per second per thread, the speed-up from 1 to all threads, the time over input order
+//    and over the largest box (per projection), and a state hash showing both thread counts
+//    computed the same thing.
 //
 // Usage: bench_pbd [--smoke] [--data <shared data dir>] [--csv <prefix>]
+//                  [--mesh <name or file>] [--repeat <timed runs per case>]
 #include "bench_meshes.h"
 #include "scenes/stretched_cloth.h"
 #include "bench_options.h"
 
 #include "softbody/pbd/cloth.h"
+#include "softbody/pbd/pbd_reordered.h"
 #include "softbody/pbd/pbd_simulation.h"
 
 #include <tbb/global_control.h>
@@ -25,6 +30,8 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <memory>
 #include <string>
 
 using namespace softbody;
@@ -93,71 +100,122 @@ void convergence(const bench::Options& options, int maxThreads)
   }
 }
 
+const char* solverName(PbdSolver solver)
+{
+  return solver == PbdSolver::GaussSeidel ? "Gauss-Seidel"
+    : solver == PbdSolver::Jacobi         ? "Jacobi"
+                                          : "Parallel Gauss-Seidel";
+}
+
 void throughput(const bench::Options& options, int maxThreads)
 {
   std::ofstream csv(options.csv + "_throughput.csv");
-  csv << "mesh,tets,links,solver,threads,ms_per_iteration,projections_per_second_per_thread,speedup,state_hash\n";
-  const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir);
-  std::printf("\nXPBD, 10 iterations per step, edges + tet volumes + floor\n");
-  std::printf("%-22s %8s %8s %-22s %3s %12s %16s %8s\n", "mesh", "tets", "links", "solver", "thr",
-    "ms/iter", "proj/s/thread", "speedup");
+  csv << "mesh,tets,links,ordering,solver,threads,ms_per_iteration,ms_per_iteration_median,"
+         "cpu_ms_per_iteration,"
+         "projections_per_second_per_thread,speedup,time_over_input_order,"
+         "per_projection_time_over_box,state_hash\n";
+  const std::vector<bench::NamedMesh> meshes =
+    bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
+  const bench::NamedMesh* box = bench::referenceBox(meshes);
+  // Seconds per projection of the reference box in its generated order, per solver and
+  // thread count.
+  std::map<std::pair<int, int>, double> boxPerProjection;
+  std::printf("\nXPBD, 10 iterations per step, edges + tet volumes + floor. ms/iter: minimum (median) "
+              "of %d run(s), wall time of the solve stages; 'cpu ms': least CPU time of the calling "
+              "thread per iteration, whole step included (1 thread only; leaves out time other "
+              "processes held the core); '/input': time over the same mesh in input order; 'x box': "
+              "per-projection time over %s's in input order\n",
+    options.repeat, box ? box->name.c_str() : "(no box)");
+  std::printf("%-22s %7s %7s %-6s %-22s %3s %8s %8s %8s %13s %7s %6s %6s\n", "mesh", "tets", "links",
+    "order", "solver", "thr", "ms/iter", "(median)", "cpu ms", "proj/s/thread", "speedup", "/input",
+    "x box");
   for (const auto& named : meshes)
   {
-    for (PbdSolver solver : { PbdSolver::GaussSeidel, PbdSolver::Jacobi, PbdSolver::ParallelGaussSeidel })
+    std::map<std::pair<int, int>, double> inputOrder; // (solver, threads) -> s/iteration
+    for (VertexOrdering ordering : { VertexOrdering::Input, VertexOrdering::Morton,
+           VertexOrdering::ReverseCuthillMcKee })
     {
-      double oneThread = 0.0;
-      std::uint64_t firstHash = 0;
-      for (int threads : { 1, maxThreads })
+      for (PbdSolver solver : { PbdSolver::GaussSeidel, PbdSolver::Jacobi, PbdSolver::ParallelGaussSeidel })
       {
-        if (solver == PbdSolver::GaussSeidel && threads > 1)
+        double oneThread = 0.0;
+        std::uint64_t firstHash = 0;
+        for (int threads : { 1, maxThreads })
         {
-          continue; // sequential by definition
-        }
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-        PbdBody body;
-        body.points = named.mesh.points;
-        body.tets = named.mesh.tets;
-        PbdSettings settings;
-        settings.solver = solver;
-        settings.floorEnabled = true;
-        settings.volumes.compliance = 1e-10;
-        std::unique_ptr<PbdSimulation> sim;
-        try
-        {
-          sim = std::make_unique<PbdSimulation>(body, settings);
-        }
-        catch (const std::exception& error)
-        {
-          std::printf("%-22s skipped: %s\n", named.name.c_str(), error.what());
-          break;
-        }
-        const int steps = options.smoke ? 2 : 20;
-        for (int s = 0; s < steps; ++s)
-        {
-          sim->step(1.0 / 120.0);
-        }
-        const double seconds = solveSeconds(*sim);
-        const double iterations = double(steps) * settings.iterations;
-        const double projections = double(sim->links().size() + sim->volumes().size()) * iterations;
-        const std::uint64_t hash = bench::hashPositions(sim->positions());
-        if (threads == 1)
-        {
-          oneThread = seconds;
-          firstHash = hash;
-        }
-        const double perThread = projections / seconds / threads;
-        std::printf("%-22s %8zu %8zu %-22s %3d %12.3f %16.3g %8.2f%s\n", named.name.c_str(),
-          sim->volumes().size(), sim->links().size(),
-          solver == PbdSolver::GaussSeidel ? "Gauss-Seidel" : solver == PbdSolver::Jacobi ? "Jacobi" : "Parallel Gauss-Seidel",
-          threads, 1e3 * seconds / iterations, perThread, oneThread / seconds,
-          hash == firstHash ? "" : "  HASH DIFFERS");
-        csv << named.name << ',' << sim->volumes().size() << ',' << sim->links().size() << ','
-            << int(solver) << ',' << threads << ',' << 1e3 * seconds / iterations << ',' << perThread << ','
-            << oneThread / seconds << ',' << hash << '\n';
-        if (hash != firstHash)
-        {
-          std::fprintf(stderr, "error: the state differs between thread counts\n");
-          std::exit(1);
+          if (solver == PbdSolver::GaussSeidel && threads > 1)
+          {
+            continue; // sequential by definition
+          }
+          tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+          PbdBody body;
+          body.points = named.mesh.points;
+          body.tets = named.mesh.tets;
+          PbdSettings settings;
+          settings.solver = solver;
+          settings.floorEnabled = true;
+          settings.volumes.compliance = 1e-10;
+          std::unique_ptr<Simulation> wrapped;
+          PbdSimulation* sim = nullptr;
+          try
+          {
+            wrapped = makePbdSimulation(body, settings, ordering, &sim);
+          }
+          catch (const std::exception& error)
+          {
+            std::printf("%-22s skipped: %s\n", named.name.c_str(), error.what());
+            break;
+          }
+          const double perIteration = double(sim->links().size() + sim->volumes().size());
+          const int steps = options.smoke ? 2 : perIteration > 3e5 ? 5 : 20;
+          sim->step(1.0 / 120.0); // warm-up
+          std::vector<double> perIterationSeconds, cpuPerIteration;
+          for (int r = 0; r < options.repeat; ++r)
+          {
+            const double before = solveSeconds(*sim);
+            const double cpuBefore = bench::threadCpuSeconds();
+            for (int s = 0; s < steps; ++s)
+            {
+              sim->step(1.0 / 120.0);
+            }
+            const double iterations = double(steps) * settings.iterations;
+            cpuPerIteration.push_back((bench::threadCpuSeconds() - cpuBefore) / iterations);
+            perIterationSeconds.push_back((solveSeconds(*sim) - before) / iterations);
+          }
+          const bench::MinMedian t = bench::minMedian(perIterationSeconds);
+          const double cpu = threads == 1 ? bench::minMedian(cpuPerIteration).min : 0.0;
+          const std::uint64_t hash = bench::hashPositions(wrapped->positions());
+          if (threads == 1)
+          {
+            oneThread = t.min;
+            firstHash = hash;
+          }
+          const auto key = std::make_pair(int(solver), threads);
+          if (ordering == VertexOrdering::Input)
+          {
+            inputOrder[key] = t.min;
+            if (box == &named)
+            {
+              boxPerProjection[key] = t.min / perIteration;
+            }
+          }
+          const double overInput = inputOrder.count(key) ? t.min / inputOrder[key] : 0.0;
+          const double overBox =
+            boxPerProjection.count(key) ? t.min / perIteration / boxPerProjection[key] : 0.0;
+          const double perThread = perIteration / t.min / threads;
+          std::printf("%-22s %7zu %7zu %-6s %-22s %3d %8.3f %8.3f %8.3f %13.3g %7.2f %6.2f %6.2f %016llx%s\n",
+            named.name.c_str(), sim->volumes().size(), sim->links().size(),
+            vertexOrderingName(ordering), solverName(solver), threads, 1e3 * t.min, 1e3 * t.median,
+            1e3 * cpu,
+            perThread, oneThread / t.min, overInput, overBox, static_cast<unsigned long long>(hash),
+            hash == firstHash ? "" : "  HASH DIFFERS");
+          csv << named.name << ',' << sim->volumes().size() << ',' << sim->links().size() << ','
+              << vertexOrderingName(ordering) << ',' << int(solver) << ',' << threads << ','
+              << 1e3 * t.min << ',' << 1e3 * t.median << ',' << 1e3 * cpu << ',' << perThread << ',' << oneThread / t.min
+              << ',' << overInput << ',' << overBox << ',' << hash << '\n';
+          if (hash != firstHash)
+          {
+            std::fprintf(stderr, "error: the state differs between thread counts\n");
+            std::exit(1);
+          }
         }
       }
     }
@@ -169,7 +227,10 @@ int main(int argc, char** argv)
 {
   const bench::Options options = bench::parseOptions(argc, argv, "bench_pbd", "bench_pbd");
   const int maxThreads = tbb::info::default_concurrency();
-  convergence(options, maxThreads);
+  if (options.mesh.empty())
+  {
+    convergence(options, maxThreads);
+  }
   throughput(options, maxThreads);
   std::printf("\nCSV: %s_convergence.csv, %s_throughput.csv\n", options.csv.c_str(), options.csv.c_str());
   return 0;

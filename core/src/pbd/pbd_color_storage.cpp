@@ -40,7 +40,66 @@ std::vector<std::int32_t> slotsOf(const std::vector<std::int32_t>& order)
   }
   return slot;
 }
+
+/// Composes a batch's input -> storage map with a further reordering of its storage.
+void composeSlots(std::vector<std::int32_t>& slot, const std::vector<std::int32_t>& order)
+{
+  const std::vector<std::int32_t> moved = slotsOf(order);
+  if (slot.empty())
+  {
+    slot = moved;
+    return;
+  }
+  for (std::int32_t& s : slot)
+  {
+    s = moved[static_cast<std::size_t>(s)];
+  }
+}
 } // namespace
+
+void PbdSimulation::storeLinksInOrder(const std::vector<std::int32_t>& order)
+{
+  permute(Links.ends, order);
+  permute(Links.originalRest, order);
+  permute(Links.rest, order);
+  permute(Links.stiffnessScale, order);
+  permute(Links.compliance, order);
+  permute(Links.broken, order);
+  permute(Links.lambda, order);
+  composeSlots(LinkSlot, order);
+  // TetEdges items name links by storage index.
+  const std::vector<std::int32_t> moved = slotsOf(order);
+  for (std::int32_t& item : TetEdges.items)
+  {
+    item = moved[static_cast<std::size_t>(item)];
+  }
+}
+
+void PbdSimulation::storeVolumesInOrder(const std::vector<std::int32_t>& order)
+{
+  permute(Volumes.tets, order);
+  permute(Volumes.restVolume, order);
+  permute(Volumes.compliance, order);
+  permute(Volumes.broken, order);
+  permute(Volumes.lambda, order);
+  composeSlots(VolumeSlot, order);
+  if (TetEdges.rowCount() > 0)
+  {
+    // TetEdges rows follow the tets' storage order.
+    Csr sorted;
+    sorted.offsets.push_back(0);
+    for (std::int32_t previous : order)
+    {
+      for (std::int32_t k = TetEdges.offsets[static_cast<std::size_t>(previous)];
+           k < TetEdges.offsets[static_cast<std::size_t>(previous) + 1]; ++k)
+      {
+        sorted.items.push_back(TetEdges.items[static_cast<std::size_t>(k)]);
+      }
+      sorted.offsets.push_back(static_cast<std::int32_t>(sorted.items.size()));
+    }
+    TetEdges = std::move(sorted);
+  }
+}
 
 void PbdSimulation::storeLinksAndVolumesByColor()
 {
@@ -48,39 +107,11 @@ void PbdSimulation::storeLinksAndVolumesByColor()
   // projection would pull whole cache lines of constraint data for one constraint, so each
   // color would stream the batch from memory again. Stored color by color, a sweep streams it
   // once. Outputs map back through LinkSlot / VolumeSlot.
-  const std::vector<std::int32_t> linkOrder = LinkSchedule.coloring.order;
-  permute(Links.ends, linkOrder);
-  permute(Links.originalRest, linkOrder);
-  permute(Links.rest, linkOrder);
-  permute(Links.stiffnessScale, linkOrder);
-  permute(Links.compliance, linkOrder);
-  permute(Links.broken, linkOrder);
-  LinkSlot = slotsOf(linkOrder);
-  const std::vector<std::int32_t> tetOrder = VolumeSchedule.coloring.order;
-  permute(Volumes.tets, tetOrder);
-  permute(Volumes.restVolume, tetOrder);
-  permute(Volumes.compliance, tetOrder);
-  permute(Volumes.broken, tetOrder);
-  VolumeSlot = slotsOf(tetOrder);
+  storeLinksInOrder(LinkSchedule.coloring.order);
+  storeVolumesInOrder(VolumeSchedule.coloring.order);
   for (BatchSchedule* schedule : { &LinkSchedule, &VolumeSchedule })
   {
     std::iota(schedule->coloring.order.begin(), schedule->coloring.order.end(), 0);
-  }
-  if (TetEdges.rowCount() > 0)
-  {
-    // Rows follow the tets' new order; items name the links' new slots.
-    Csr sorted;
-    sorted.offsets.push_back(0);
-    for (std::int32_t original : tetOrder)
-    {
-      for (std::int32_t k = TetEdges.offsets[static_cast<std::size_t>(original)];
-           k < TetEdges.offsets[static_cast<std::size_t>(original) + 1]; ++k)
-      {
-        sorted.items.push_back(LinkSlot[static_cast<std::size_t>(TetEdges.items[static_cast<std::size_t>(k)])]);
-      }
-      sorted.offsets.push_back(static_cast<std::int32_t>(sorted.items.size()));
-    }
-    TetEdges = std::move(sorted);
   }
 }
 

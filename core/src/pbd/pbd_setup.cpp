@@ -6,6 +6,7 @@
 #include "softbody/common/validation.h"
 #include "softbody/material/mass.h"
 #include "softbody/material/material.h"
+#include "softbody/mesh/reorder.h"
 #include "softbody/mesh/tet_mesh.h"
 #include "softbody/pbd/pbd_plan.h"
 
@@ -227,16 +228,24 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   }
   Attachments.lambda.assign(Attachments.size(), 0.0);
 
+  if (Settings.breakingStrain > 0.0)
+  {
+    TetEdges = topology.tetEdges;
+  }
+  // Tets sorted by their vertices, so a sweep visits neighbouring tets one after the other
+  // (the tet edges already are: topology sorts them by their ends). With vertices numbered
+  // along a space-filling curve (mesh/reorder.h) this is what keeps a sweep in cache.
+  if (Volumes.size() > 1)
+  {
+    storeVolumesInOrder(tetOrderByVertices(Volumes.tets, {}));
+  }
+
   // Only what the chosen solver uses: colors for parallel Gauss-Seidel, slots for Jacobi.
   if (Settings.solver != PbdSolver::GaussSeidel)
   {
     LinkSchedule = makeSchedule(Links, n, Movable);
     VolumeSchedule = makeSchedule(Volumes, n, Movable);
     AttachmentSchedule = makeSchedule(Attachments, n, Movable);
-  }
-  if (Settings.breakingStrain > 0.0)
-  {
-    TetEdges = topology.tetEdges;
   }
   if (Settings.solver == PbdSolver::ParallelGaussSeidel)
   {

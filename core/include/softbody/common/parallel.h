@@ -1,5 +1,6 @@
-// The only two parallel patterns core uses, in one place:
+// The only parallel patterns core uses, in one place:
 //   parallelFor(count, grain, body)      body(i) for every i; each i is written by one task
+//   parallelForContiguous(count, grain, body)   the same, one contiguous part per thread
 //   parallelReduce(count, grain, init, map, combine)   an order-independent reduction
 //   parallelSum(count, term)             a floating-point sum with a fixed summation order
 // Kernels stay plain loops over indices and never see the threading library.
@@ -22,6 +23,7 @@
 #include <vector>
 #else
 #include <tbb/blocked_range.h>
+#include <tbb/partitioner.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #endif
@@ -70,6 +72,12 @@ void parallelFor(std::size_t count, std::size_t /*grain*/, const Body& body)
   });
 }
 
+template <typename Body>
+void parallelForContiguous(std::size_t count, std::size_t grain, const Body& body)
+{
+  parallelFor(count, grain, body); // already one contiguous chunk per thread
+}
+
 template <typename T, typename Map, typename Combine>
 T parallelReduce(std::size_t count, std::size_t /*grain*/, T identity, const Map& map, const Combine& combine)
 {
@@ -108,6 +116,34 @@ void parallelFor(std::size_t count, std::size_t grain, const Body& body)
         body(i);
       }
     });
+}
+
+/// body(i) for every i, split evenly into one contiguous part per thread without load
+/// balancing (TBB's static partitioner, which also gives each part to the same thread from call
+/// to call). For loop after loop over data laid out in the same order, such as the colors of a
+/// constraint graph sorted by vertex: each core keeps touching the same part of the vertices,
+/// so they stay in its cache instead of moving between the cores every color, and two threads
+/// never interleave writes to neighbouring vertices. Ranges below 2 grains run on the caller.
+template <typename Body>
+void parallelForContiguous(std::size_t count, std::size_t grain, const Body& body)
+{
+  if (count < 2 * grain)
+  {
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      body(i);
+    }
+    return;
+  }
+  tbb::parallel_for(
+    tbb::blocked_range<std::size_t>(0, count, grain),
+    [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      {
+        body(i);
+      }
+    },
+    tbb::static_partitioner());
 }
 
 /// `combine` must be associative and commutative up to the exactness the caller needs (max,

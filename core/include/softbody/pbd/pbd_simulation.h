@@ -56,8 +56,9 @@ public:
   /// of convergence reporting and tolerances, and proof of when they ran.
   unsigned long long residualEvaluations() const { return ResidualEvaluations; }
 
-  /// The batches as stored: in input order, except with the parallel solver, which stores them
-  /// color by color (use linkBroken / tetBroken to ask about an input link or tet).
+  /// The batches as stored: links in input order and tets sorted by their vertices (locality),
+  /// except with the parallel solver, which stores both color by color (use linkBroken /
+  /// tetBroken to ask about an input link or tet).
   const DistanceBatch& links() const { return Links; }
   const VolumeBatch& volumes() const { return Volumes; }
   /// Links in input order are the tet edges (topology order), then the explicit links: explicit
@@ -84,6 +85,10 @@ private:
   void updateLinks(double h);
   void markBrokenTets();
   void storeLinksAndVolumesByColor();
+  /// Stores the batch in `order` (storage k takes the constraint now at order[k]) and composes
+  /// LinkSlot / VolumeSlot and TetEdges with it.
+  void storeLinksInOrder(const std::vector<std::int32_t>& order);
+  void storeVolumesInOrder(const std::vector<std::int32_t>& order);
   void setComplianceFromElasticity(const Topology& topology, const std::vector<Vec3>& rest);
   void checkDivergence() const;
 

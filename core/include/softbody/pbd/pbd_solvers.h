@@ -88,7 +88,12 @@ void coloredGaussSeidelSweep(
   {
     const std::size_t begin = static_cast<std::size_t>(coloring.colorOffsets[color]);
     const std::size_t end = static_cast<std::size_t>(coloring.colorOffsets[color + 1]);
-    parallelFor(end - begin, 256, [&](std::size_t i) {
+    // One contiguous part of the color per thread, the same part every color: the constraints
+    // are stored sorted by their vertices within each color (pbd_setup.cpp, mesh/reorder.h), so
+    // each core works on the same region of the body color after color. With TBB's dynamic
+    // split the parts moved between the cores every color, pulling the vertices' cache lines
+    // across with them: 2 threads ran slower than 1 (issue 15).
+    parallelForContiguous(end - begin, 256, [&](std::size_t i) {
       detail::projectAndApply(batch, static_cast<std::size_t>(coloring.order[begin + i]), x, w);
     });
   }
