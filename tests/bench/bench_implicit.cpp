@@ -13,7 +13,7 @@
 // with time); the implicit runs over the first `frames` frames, which include the landing.
 // Results also go to CSV.
 //
-// Usage: bench_implicit [--smoke] [--data <shared data dir>] [--csv <file>]
+// Usage: bench_implicit [--smoke] [--data <shared data dir>] [--csv <file>] [--mesh <spec>]
 #include "bench_meshes.h"
 #include "bench_options.h"
 
@@ -128,7 +128,7 @@ int main(int argc, char** argv)
   const bench::Options options =
     bench::parseOptions(argc, argv, "bench_implicit", "bench_implicit.csv");
   const int frames = options.smoke ? 2 : 12;
-  const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir);
+  const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
 
   std::ofstream csv(options.csv);
   csv << "mesh,vertices,tets,integrator,step_s,ms_per_step,s_per_simulated_s,iterations_per_step,"

@@ -193,6 +193,10 @@ void IncrementalPotential::springHessianPass(const std::vector<Vec3>& x)
 void IncrementalPotential::assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian)
 {
   springHessianPass(x);
+  if (!TetGradient.empty() && CornerSlots.empty())
+  {
+    findCornerSlots(hessian);
+  }
   const double h2 = H * H;
   parallelFor(Topo.vertexCount, kVertexGrain, [&](std::size_t i) {
     const std::int32_t row = static_cast<std::int32_t>(i);
@@ -221,21 +225,43 @@ void IncrementalPotential::assembleHessian(const std::vector<Vec3>& x, BlockSpar
     const Csr& corners = Topo.vertexTetCorners;
     for (std::int32_t k = corners.offsets[i]; k < corners.offsets[i + 1]; ++k)
     {
-      const std::int32_t t = corners.items[k] / 4, c = corners.items[k] % 4;
-      const double stiffness = Constants.volumeStiffness[t];
-      const double damping = Constants.volumeDamping[t] / H;
+      const std::int32_t tetCorner = corners.items[k];
+      const std::int32_t t = tetCorner / 4, c = tetCorner % 4;
+      // Volume damping's exact Hessian is (Kd / h) g0 g0^T with the step's initial gradients;
+      // g differs from g0 by one step's deformation, so (K + Kd / h) g g^T halves the outer
+      // products at the cost of an O(h) error in a term Newton only needs approximately (the
+      // gradient, and so the answer, keeps g0).
+      const double weight = Constants.volumeStiffness[t] + Constants.volumeDamping[t] / H;
       const std::array<Vec3, 4>& g = TetGradient[t];
-      const std::array<Vec3, 4>& g0 = DampingGradient[t];
-      diagonal += stiffness * g[c] * g[c].transpose() + damping * g0[c] * g0[c].transpose();
-      for (int j = 0; j < 4; ++j)
+      const Vec3 wg = weight * g[c];
+      diagonal.noalias() += wg * g[c].transpose();
+      const std::array<std::int32_t, 3>& slots = CornerSlots[static_cast<std::size_t>(tetCorner)];
+      for (int j = 0, k3 = 0; j < 4; ++j)
       {
-        if (j == c)
+        if (j != c)
         {
-          continue;
+          hessian.block(slots[k3++]).noalias() += wg * g[j].transpose();
         }
-        const std::int32_t e = Topo.tetEdges.items[6 * t + kLocalEdge[c][j]];
-        hessian.block(hessian.edgeSlot(e, row, Topo)) +=
-          stiffness * g[c] * g[j].transpose() + damping * g0[c] * g0[j].transpose();
+      }
+    }
+  });
+}
+
+void IncrementalPotential::findCornerSlots(const BlockSparseMatrix& hessian)
+{
+  // Each tet corner's three off-diagonal blocks, found once: the assembly then writes without
+  // looking up edges.
+  CornerSlots.resize(4 * Topo.tets.size());
+  parallelFor(Topo.tets.size(), kElementGrain, [&](std::size_t t) {
+    for (int c = 0; c < 4; ++c)
+    {
+      for (int j = 0, k = 0; j < 4; ++j)
+      {
+        if (j != c)
+        {
+          const std::int32_t e = Topo.tetEdges.items[6 * t + kLocalEdge[c][j]];
+          CornerSlots[4 * t + c][k++] = hessian.edgeSlot(e, Topo.tets[t][c], Topo);
+        }
       }
     }
   });

@@ -106,23 +106,19 @@ void ProjectiveDynamicsStepper::factor(double h)
 void ProjectiveDynamicsStepper::solve(
   const std::vector<Vec3>& q, const MotionFilter& filter, std::vector<Vec3>& direction)
 {
-  const std::vector<Vec3>& gradient = q;
-  direction.assign(gradient.size(), Vec3::Zero());
-  // x, y and z share A: three independent solves, one task each (same result on any threads).
-  parallelFor(3, 1, [&](std::size_t axis) {
-    const auto a = static_cast<Eigen::Index>(axis);
-    Eigen::VectorXd rhs(static_cast<Eigen::Index>(FreeVertex.size()));
-    for (std::size_t r = 0; r < FreeVertex.size(); ++r)
-    {
-      rhs[static_cast<Eigen::Index>(r)] = -filter.apply(FreeVertex[r], gradient[FreeVertex[r]])[a];
-    }
-    const Eigen::VectorXd solution = Cholesky.solve(rhs);
-    for (std::size_t r = 0; r < FreeVertex.size(); ++r)
-    {
-      direction[FreeVertex[r]][a] = solution[static_cast<Eigen::Index>(r)];
-    }
+  // x, y and z share A: one solve with three right-hand sides reads the factor once (the
+  // triangular solves are memory-bound: three separate ones cost ~3x).
+  const auto rows = static_cast<Eigen::Index>(FreeVertex.size());
+  Rhs.resize(rows, 3);
+  parallelFor(FreeVertex.size(), 4096, [&](std::size_t r) {
+    Rhs.row(static_cast<Eigen::Index>(r)) = -filter.apply(FreeVertex[r], q[FreeVertex[r]]).transpose();
   });
-  parallelFor(direction.size(), 4096, [&](std::size_t i) { direction[i] = filter.apply(i, direction[i]); });
+  Solution = Cholesky.solve(Rhs);
+  direction.assign(q.size(), Vec3::Zero());
+  parallelFor(FreeVertex.size(), 4096, [&](std::size_t r) {
+    const std::size_t i = static_cast<std::size_t>(FreeVertex[r]);
+    direction[i] = filter.apply(i, Solution.row(static_cast<Eigen::Index>(r)).transpose());
+  });
 }
 
 void ProjectiveDynamicsStepper::step(double h, DynamicState& state, StepPlan& plan)

@@ -18,7 +18,8 @@
 //            transverse eigenvalue (a compressed spring) clamped to zero (Choi and Ko 2002);
 //   volumes: K g g^T, the Gauss-Newton part; the dropped curvature K (V - V0) d2V/dx2 is
 //            indefinite whenever V != V0, and projecting it exactly needs a 12x12 eigen
-//            decomposition per tet and step.
+//            decomposition per tet and step. Their damping enters as (Kd / h) g g^T (see
+//            assembleHessian).
 // Pinned points (inverse mass 0) are fixed: their rows are inactive.
 #pragma once
 
@@ -67,6 +68,7 @@ public:
 private:
   void elementPass(const std::vector<Vec3>& x);
   void springHessianPass(const std::vector<Vec3>& x);
+  void findCornerSlots(const BlockSparseMatrix& hessian);
 
   const Topology& Topo;
   const ElementConstants& Constants;
@@ -89,6 +91,7 @@ private:
   std::vector<double> TetScale;       ///< K (V - V0): the volume gradient's factor
   std::vector<double> TetDampingScale; ///< Kd / h (g0 . dx): the damping gradient's factor
   std::vector<double> ElementEnergy;  ///< per edge then per tet, summed in a fixed order
+  std::vector<std::array<std::int32_t, 3>> CornerSlots; ///< per tet corner: its 3 edge blocks
 };
 
 } // namespace softbody

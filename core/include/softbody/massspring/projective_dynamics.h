@@ -80,6 +80,7 @@ private:
   int History = 0;
   std::vector<Pair> Pairs;  ///< oldest first
   std::vector<Vec3> LastX, LastGradient, Q;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> Rhs, Solution;
   std::vector<double> Alpha;
 };
 
