@@ -13,6 +13,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <map>
 
 namespace softbody
 {
@@ -416,6 +417,66 @@ TEST(PbdSimulation, StiffnessCorrectionMakesTheStepIndependentOfIterations)
   }
 }
 
+TEST(PbdSimulation, JacobiMovesAParticleByTheRelaxedMeanOfItsCorrections)
+{
+  // Particle 1 between two pinned ones (rest: 0, 1, 2 on x), moved to x = 1.5: link 0-1 asks
+  // -0.5, link 1-2 asks -0.5 too (all on particle 1); averaged Jacobi moves it by omega times
+  // their mean, -0.5 omega (the plain sum would move it twice as far).
+  for (double omega : { 1.0, 0.5 })
+  {
+    PbdBody body;
+    body.points = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0) };
+    body.links = { { 0, 1 }, { 1, 2 } };
+    body.pointMass = { 1.0, 1.0, 1.0 };
+    body.pinned = { 1, 0, 1 };
+    PbdSettings settings;
+    settings.gravity.setZero();
+    settings.solver = PbdSolver::Jacobi;
+    settings.relaxation = omega;
+    settings.iterations = 1;
+    PbdSimulation sim(body, settings);
+    DynamicState moved = sim.state();
+    moved.positions[1].x() = 1.5;
+    sim.restoreState(moved);
+    sim.advance(sim.stepSize());
+    EXPECT_NEAR(sim.positions()[1].x(), 1.5 - 0.5 * omega, 1e-12) << omega;
+  }
+}
+
+TEST(PbdSimulation, PlasticFlowStopsAtTheYieldBandAndBreakingCountsFromTheOriginalLength)
+{
+  // One link of rest length 1 held at length L for one step (a compliance so large that the
+  // projection does not move it, no gravity), creep x step = 1: the rest length flows to the
+  // edge of the yield band, L -+ yield, in one step; a link breaks when |L - l0| passes the
+  // breaking strain of its original length l0.
+  auto afterOneStep = [](double length, double yield, double breaking) {
+    PbdBody body;
+    body.points = { Vec3(0, 0, 0), Vec3(1, 0, 0) };
+    body.links = { { 0, 1 } };
+    body.pointMass = { 1.0, 1.0 };
+    body.pinned = { 1, 1 }; // both held: the length stays L
+    PbdSettings settings;
+    settings.gravity.setZero();
+    settings.links.compliance = 1e12;
+    settings.plasticYield = yield;
+    settings.plasticCreep = 1.0 / kDefaultPbdStep;
+    settings.breakingStrain = breaking;
+    PbdSimulation sim(body, settings);
+    DynamicState held = sim.state();
+    held.positions[1].x() = length;
+    sim.restoreState(held);
+    sim.advance(sim.stepSize());
+    return std::make_pair(sim.links().rest[0], sim.brokenLinkCount());
+  };
+  EXPECT_NEAR(afterOneStep(1.5, 0.1, 0.0).first, 1.4, 1e-12);
+  EXPECT_NEAR(afterOneStep(0.7, 0.1, 0.0).first, 0.8, 1e-12);
+  EXPECT_NEAR(afterOneStep(1.05, 0.1, 0.0).first, 1.0, 1e-15); // inside the band: elastic
+  EXPECT_EQ(afterOneStep(1.5, 0.0, 0.45).second, 1u);
+  EXPECT_EQ(afterOneStep(1.5, 0.0, 0.55).second, 0u);
+  // Flowed to 1.4 in the same step, the link still breaks against its original length.
+  EXPECT_EQ(afterOneStep(1.5, 0.1, 0.45).second, 1u);
+}
+
 TEST(PbdSimulation, ResumingWithPlasticAndBrokenLinksReproducesTheRunExactly)
 {
   // The dense column hanging from its top face, with plastic links that also break. Both
@@ -486,6 +547,32 @@ TEST(PbdSimulation, ResumingWithPlasticAndBrokenLinksReproducesTheRunExactly)
     EXPECT_EQ(sim->links().broken, straight.links().broken);
   }
   EXPECT_EQ(straight.positions(), reference);
+
+  // A tet with a broken edge no longer holds its volume; the others still do.
+  std::map<std::pair<std::int32_t, std::int32_t>, std::size_t> linkOf;
+  for (std::size_t c = 0; c < straight.links().size(); ++c)
+  {
+    const auto& e = straight.links().ends[c];
+    linkOf[{ std::min(e[0], e[1]), std::max(e[0], e[1]) }] = c;
+  }
+  std::size_t brokenTets = 0;
+  for (std::size_t t = 0; t < straight.volumes().tets.size(); ++t)
+  {
+    const Tet& tet = straight.volumes().tets[t];
+    bool hasBrokenEdge = false;
+    for (int a = 0; a < 4; ++a)
+    {
+      for (int b = a + 1; b < 4; ++b)
+      {
+        hasBrokenEdge = hasBrokenEdge ||
+          straight.links().broken[linkOf.at({ std::min(tet[a], tet[b]), std::max(tet[a], tet[b]) })];
+      }
+    }
+    EXPECT_EQ(straight.volumes().broken[t] != 0, hasBrokenEdge) << "tet " << t;
+    brokenTets += hasBrokenEdge;
+  }
+  EXPECT_GT(brokenTets, 0u);
+  EXPECT_LT(brokenTets, straight.volumes().tets.size());
 }
 
 TEST(PbdSimulation, RestingBodyDoesNotGainEnergy)
