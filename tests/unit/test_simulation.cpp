@@ -65,10 +65,18 @@ TEST(Simulation, BodyFallsAndComesToRestOnTheFloor)
     EXPECT_GE(lowest, -1e-12) << integratorName(integrator);
     EXPECT_LT(lowest, 1e-3) << integratorName(integrator); // it did land
     EXPECT_LT(fastest, 0.05) << integratorName(integrator); // and settled
-    for (double ratio : sim.tetVolumeRatios())
+    // Sagging under its own weight, not crushed: rho g H / E = 1.6% axial strain at the bottom.
+    // Measured: tet volume ratios in [0.9837, 1.0005], mean 0.9948-0.9950 (elasticity's mean
+    // (1 - 2 nu) rho g H / 2E = 0.32% for uniaxial stress; the network compresses more).
+    double mean = 0.0;
+    const std::vector<double> ratios = sim.tetVolumeRatios();
+    for (double ratio : ratios)
     {
-      EXPECT_NEAR(ratio, 1.0, 0.1) << integratorName(integrator); // sagging, not crushed
+      EXPECT_GT(ratio, 0.975) << integratorName(integrator);
+      EXPECT_LT(ratio, 1.002) << integratorName(integrator);
+      mean += ratio / double(ratios.size());
     }
+    EXPECT_NEAR(mean, 0.9949, 0.002) << integratorName(integrator);
   }
 }
 
