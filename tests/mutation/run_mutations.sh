@@ -5,13 +5,15 @@
 # each mutation, and on any exit (trap).
 #
 #   tests/mutation/run_mutations.sh [--source DIR] [--build DIR] [--list FILE] [--only ID,ID]
-#                                   [--report FILE] [--jobs N]
+#                                   [--report FILE] [--jobs N] [--no-baseline]
 #
 # Suites: unit   = ctest -L unit (core's GoogleTest suite) with EGL hidden;
 #         gpu    = the GPU unit tests (unit.gpu_*) on whatever EGL driver there is (Mesa's
 #                  llvmpipe here; without a context they skip and the mutation survives);
 #         filter = ctest -L filter -LE gpu (the VTK filter programs) with EGL hidden.
-# Every suite stops at its first failure. A mutation that does not compile is reported as
+# First each suite needed runs on the unmutated sources (the baseline): a suite that already
+# fails would "kill" every mutation, so the run stops there. Every suite stops at its first
+# failure. A mutation that does not compile is reported as
 # "invalid", not as killed. Exit status: 0 when every mutation is killed or documented (note:),
 # 1 otherwise.
 set -u -o pipefail
@@ -23,6 +25,7 @@ list="$here/mutations.txt"
 only=""
 report=""
 jobs=2
+baseline=1
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --source) source_dir="$(cd "$2" && pwd)"; shift 2 ;;
@@ -31,6 +34,7 @@ while [[ $# -gt 0 ]]; do
     --only) only=",$2,"; shift 2 ;;
     --report) report="$2"; shift 2 ;;
     --jobs) jobs="$2"; shift 2 ;;
+    --no-baseline) baseline=0; shift ;;
     *) echo "unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -82,6 +86,18 @@ trap 'restore; exit 130' INT TERM
 trap restore EXIT
 
 mkdir -p "$build_dir/mutation_logs"
+if [[ $baseline -eq 1 ]]; then
+  for suite in $(printf '%s\n' "${entries[@]}" | while IFS=$'\t' read -r id file suite note; do
+                   [[ -z "$only" || "$only" == *",$id,"* ]] && echo "$suite"; done | sort -u); do
+    log="$build_dir/mutation_logs/baseline-$suite.log"
+    if ! cmake --build "$build_dir" -j "$jobs" --target $(suite_targets "$suite") >"$log" 2>&1 ||
+      ! run_suite "$suite" "$log.ctest"; then
+      echo "baseline: the $suite suite fails without any mutation (see $log*); fix that first" >&2
+      exit 2
+    fi
+    echo "baseline: the $suite suite passes"
+  done
+fi
 : >"$report"
 killed=0; survived=0; documented=0; invalid=0
 for entry in "${entries[@]}"; do
