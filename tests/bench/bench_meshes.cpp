@@ -1,5 +1,7 @@
 #include "bench_meshes.h"
 
+#include <algorithm>
+
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/mesh/mesh_io.h"
 #include "softbody/mesh/tetrahedralize.h"
@@ -380,6 +382,30 @@ const NamedMesh* referenceBox(const std::vector<NamedMesh>& meshes)
     }
   }
   return box;
+}
+
+SceneSettings landingScene(const TetMesh& mesh, bool floor, double strainLimit)
+{
+  double lowest = 1e300;
+  for (const Vec3& p : mesh.points)
+  {
+    lowest = std::min(lowest, p.z());
+  }
+  SceneSettings scene;
+  scene.floorEnabled = floor;
+  scene.floor.origin = Vec3(0, 0, lowest - 1e-3);
+  scene.strainLimit = strainLimit;
+  return scene;
+}
+
+double maxDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
+{
+  double largest = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+  {
+    largest = std::max(largest, (a[i] - b[i]).norm());
+  }
+  return largest;
 }
 
 } // namespace softbody::bench

@@ -2,6 +2,7 @@
 // ../shared/data when present (read with VTK's readers and TetGen's own loader).
 #pragma once
 
+#include "softbody/massspring/mass_spring_settings.h"
 #include "softbody/mesh/tet_mesh.h"
 
 #include <array>
@@ -52,5 +53,14 @@ std::vector<NamedMesh> benchmarkMeshes(bool smoke, const std::string& dataDir, c
 /// The generated box whose per-tet cost real meshes are compared with: the largest box of the
 /// run (box_151200 in a full run); null when there is none.
 const NamedMesh* referenceBox(const std::vector<NamedMesh>& meshes);
+
+/// The smoke runs' state-hash scene: the body 1 mm above a floor, strain limit 1.001, run for
+/// kLandingTime. It lands at 14 ms (sqrt(2 mm / g)); on impact the limiter corrects springs.
+/// `floor` / `strainLimit` switch the stages off to show that each acts.
+constexpr double kLandingTime = 0.03;
+SceneSettings landingScene(const TetMesh& mesh, bool floor = true, double strainLimit = 1.001);
+
+/// Largest distance between corresponding points.
+double maxDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b);
 
 } // namespace softbody::bench

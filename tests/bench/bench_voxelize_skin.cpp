@@ -23,6 +23,7 @@
 #include "softbody/lattice/lattice.h"
 #include "softbody/lattice/skinning.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -101,6 +102,11 @@ int main(int argc, char** argv)
       seconds, 1e9 * seconds / nodes, 1e9 * seconds / double(out->GetNumberOfPoints()));
     csv << "voxelize," << resolution << ',' << out->GetNumberOfPoints() << ',' << seconds << ','
         << 1e9 * seconds / double(out->GetNumberOfPoints()) << '\n';
+    if (out->GetNumberOfPoints() == 0 || out->GetNumberOfCells() == 0)
+    {
+      std::fprintf(stderr, "error: voxelizing at resolution %d gave no particles or links\n", resolution);
+      return 1;
+    }
     if (resolution == (options.smoke ? 16 : 40))
     {
       lattice40 = vtkSmartPointer<vtkUnstructuredGrid>::New();
@@ -133,6 +139,19 @@ int main(int argc, char** argv)
     }
     const double apply = secondsSince(start) / repeats;
     const double n = double(vertices.size());
+    // The run is checked, not only timed: every vertex bound, and the undeformed lattice gives
+    // the surface back (trilinear weights reproduce positions exactly).
+    double worst = 0.0;
+    for (std::size_t v = 0; v < vertices.size(); ++v)
+    {
+      worst = std::max(worst, (moved[v] - vertices[v]).norm());
+    }
+    if (skin.vertexCount() != vertices.size() || moved.size() != vertices.size() || !(worst < 1e-9))
+    {
+      std::fprintf(stderr, "error: skinning %zu vertices gave %zu back, off by up to %g\n",
+        vertices.size(), moved.size(), worst);
+      return 1;
+    }
     std::printf("%10d %12zu %12.5f %14.1f %12.6f %14.2f\n", resolution, vertices.size(), bind,
       1e9 * bind / n, apply, 1e9 * apply / n);
     csv << "bind," << resolution << ',' << vertices.size() << ',' << bind << ',' << 1e9 * bind / n << '\n';

@@ -12,7 +12,7 @@ int main()
   auto bar = sbtest::MakeTetBox(6, 2, 2, 0.05, { 0.0, 0.0, 0.5 });
   vtkNew<vtkIntArray> pinned;
   pinned->SetName("Clamp");
-  pinned->SetNumberOfComponents(2); // pinned when any component is nonzero
+  pinned->SetNumberOfComponents(2); // pinned when any component is nonzero (negative too)
   pinned->SetNumberOfTuples(bar->GetNumberOfPoints());
   std::vector<bool> isPinned(static_cast<std::size_t>(bar->GetNumberOfPoints()));
   for (vtkIdType i = 0; i < bar->GetNumberOfPoints(); ++i)
@@ -21,7 +21,7 @@ int main()
     bar->GetPoint(i, p);
     isPinned[static_cast<std::size_t>(i)] = p[0] < 1e-6;
     pinned->SetTypedComponent(i, 0, 0);
-    pinned->SetTypedComponent(i, 1, p[0] < 1e-6 ? 3 : 0);
+    pinned->SetTypedComponent(i, 1, p[0] < 1e-6 ? -3 : 0);
   }
   bar->GetPointData()->AddArray(pinned);
   const std::vector<double> rest = sbtest::PointsOf(bar);

@@ -156,3 +156,35 @@ TEST(Forces, SpringDampingOpposesRelativeVelocityOnly)
   }
   EXPECT_LT(power, 0.0);
 }
+
+TEST(Forces, VolumeDampingDissipatesExactlyItsRateSquared)
+{
+  // Raw constants with volume damping only (no springs, no volume stiffness): at the rest shape
+  // the forces are f_i = sum_t s_t dV_t/dp_i with s_t = -k_V,d' dV_t/dt, so their power is
+  // sum f.v = -sum_t k_V,d' (dV_t/dt)^2 <= 0, exactly. A random velocity field is used.
+  MaterialSettings material;
+  material.mode = MaterialMode::Raw;
+  material.raw = { 0.0, 0.0, 0.0, 2.0, 1.0 };
+  const Body body = makeBody(material, 2);
+  const std::vector<Vec3> v = test::randomVectors(body.mesh.points.size(), 1.0);
+  const std::vector<Vec3> f = forcesAt(body, body.mesh.points, v);
+  double power = 0.0, expected = 0.0;
+  for (std::size_t i = 0; i < f.size(); ++i)
+  {
+    power += f[i].dot(v[i]);
+  }
+  for (std::size_t t = 0; t < body.topology.tets.size(); ++t)
+  {
+    const Tet& tet = body.topology.tets[t];
+    const auto g = tetVolumeGradients(body.mesh.points[tet[0]], body.mesh.points[tet[1]],
+      body.mesh.points[tet[2]], body.mesh.points[tet[3]]);
+    double rate = 0.0;
+    for (int k = 0; k < 4; ++k)
+    {
+      rate += g[k].dot(v[tet[k]]);
+    }
+    expected -= body.constants.volumeDamping[t] * rate * rate;
+  }
+  ASSERT_LT(expected, 0.0);
+  EXPECT_NEAR(power / expected, 1.0, 1e-12);
+}

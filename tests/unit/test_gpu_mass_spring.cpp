@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -44,12 +45,41 @@ BodyDescription smallBody(bool pinTop = false)
 
 SceneSettings busyScene(Integrator integrator)
 {
-  // Every stage on: volume term (Poisson 0.3), strain limit and floor contact.
+  // Every stage on: volume term (Poisson 0.3), strain limit and floor contact. The limit is
+  // low enough to act: without it the falling body stretches its springs to ~1.023 on impact
+  // (a limit of 1.05, as here before, never fired).
   SceneSettings scene;
   scene.integrator = integrator;
   scene.floorEnabled = true;
-  scene.strainLimit = 1.05;
+  scene.strainLimit = 1.005;
   return scene;
+}
+
+/// The hanging scene: top face pinned, no floor, raw constants with volume damping (the
+/// physical material cannot switch volume damping off alone), strain limit acting on the
+/// stretched top layer (without it the springs reach 1.018 by 0.1 s).
+BodyDescription hangingBody()
+{
+  BodyDescription body = smallBody(/*pinTop=*/true);
+  body.material.mode = MaterialMode::Raw;
+  body.material.raw = { 0.2, 2e-5, 0.4, 8e-5, 1.0 }; // k_D, k_D,d, k_V, k_V,d [J, J s], mass [kg]
+  return body;
+}
+
+SceneSettings hangingScene(Integrator integrator)
+{
+  SceneSettings scene;
+  scene.integrator = integrator;
+  scene.strainLimit = 1.01;
+  return scene;
+}
+
+/// CPU positions after `endTime`.
+std::vector<Vec3> cpuPositions(const BodyDescription& body, const SceneSettings& scene, double endTime)
+{
+  MassSpringSimulation simulation(body, scene);
+  simulation.advance(endTime);
+  return simulation.positions();
 }
 
 /// The GPU stepper, or null (and the test skips) where no context can be made. Any other
@@ -128,6 +158,22 @@ TEST_P(GpuAgainstCpu, SameStatesAfterManyStepsWithEveryStage)
   }
   // The body moved (the comparison is not between two resting bodies).
   EXPECT_GT(maxDifference(cpuSimulation.positions(), cpuSimulation.restPositions()), 1e-3);
+  // Every stage compared is active: the same run without it ends elsewhere, by far more than
+  // the tolerance (a GPU bug in that stage would show).
+  SceneSettings noLimit = scene;
+  noLimit.strainLimit = 0.0;
+  MassSpringSimulation unlimited(body, noLimit);
+  double stretched = 0.0;
+  for (double t : { 0.02, 0.04, 0.06 })
+  {
+    unlimited.advance(t);
+    stretched = std::max(stretched, maxStretchRatio(unlimited.topology(), unlimited.elementConstants(), unlimited.positions()));
+  }
+  EXPECT_GT(stretched, scene.strainLimit * 1.005) << "the limiter would not act";
+  EXPECT_GT(maxDifference(unlimited.positions(), cpuSimulation.positions()) / size, 1e-5);
+  SceneSettings noFloor = scene;
+  noFloor.floorEnabled = false;
+  EXPECT_GT(maxDifference(cpuPositions(body, noFloor, 0.06), cpuSimulation.positions()) / size, 1e-3);
   const std::vector<double> gpuRatios = gpuSimulation->tetVolumeRatios();
   const std::vector<double> cpuRatios = cpuSimulation.tetVolumeRatios();
   ASSERT_EQ(gpuRatios.size(), cpuRatios.size());
@@ -135,6 +181,78 @@ TEST_P(GpuAgainstCpu, SameStatesAfterManyStepsWithEveryStage)
   {
     ASSERT_NEAR(gpuRatios[t], cpuRatios[t], 1e-6);
   }
+}
+
+TEST(MassSpring, SameStatesAsTheCpuWhenHangingFromPinsWithTheLimiterActing)
+{
+  // Verlet (whose velocity the limiter corrects) and Euler-Cromer; Midpoint and Euler need far
+  // smaller steps with these low damping ratios, and are compared in the falling scene.
+  for (Integrator integrator : { Integrator::Verlet, Integrator::EulerCromer })
+  {
+    const BodyDescription body = hangingBody();
+    const SceneSettings scene = hangingScene(integrator);
+    MAKE_GPU_OR_SKIP(gpuSimulation, body, scene);
+    MassSpringSimulation cpuSimulation(body, scene);
+    const double size = 0.12, endTime = 0.1;
+    gpuSimulation->advance(endTime);
+    cpuSimulation.advance(endTime);
+    ASSERT_EQ(gpuSimulation->stepCount(), cpuSimulation.stepCount());
+    const double dx = maxDifference(gpuSimulation->positions(), cpuSimulation.positions());
+    std::cout << integratorName(integrator) << " hanging, " << cpuSimulation.stepCount()
+              << " steps: max |dx| / size = " << dx / size << "\n";
+    EXPECT_LE(dx / size, kRelativeTolerance);
+    EXPECT_LE(maxDifference(gpuSimulation->velocities(), cpuSimulation.velocities()), 1e-9);
+    for (std::size_t i = 0; i < body.pinned.size(); ++i)
+    {
+      if (body.pinned[i])
+      {
+        ASSERT_EQ(gpuSimulation->positions()[i], body.mesh.points[i]);
+      }
+    }
+
+    // Each stage acts, by far more than the tolerance (measured: the limiter moves points by
+    // 0.4-0.5 mm, volume damping by 0.04-0.05 mm; without pins the body falls 49 mm).
+    BodyDescription free = body;
+    free.pinned.clear();
+    EXPECT_GT(maxDifference(cpuPositions(free, scene, endTime), cpuSimulation.positions()), 0.03);
+    SceneSettings noLimit = scene;
+    noLimit.strainLimit = 0.0;
+    MassSpringSimulation unlimited(body, noLimit);
+    unlimited.advance(endTime);
+    EXPECT_GT(maxStretchRatio(unlimited.topology(), unlimited.elementConstants(), unlimited.positions()),
+      scene.strainLimit * 1.005);
+    EXPECT_GT(maxDifference(unlimited.positions(), cpuSimulation.positions()), 1e-4);
+    BodyDescription noVolumeDamping = body;
+    noVolumeDamping.material.raw.volumeDamping = 0.0;
+    EXPECT_GT(maxDifference(cpuPositions(noVolumeDamping, scene, endTime), cpuSimulation.positions()), 1e-5);
+  }
+}
+
+TEST(MassSpring, VerletAcrossStepSizeChangesAsOnTheCpu)
+{
+  // Free fall (floor off) with intervals that change the step: 1 ms, 0.9875 ms, 0.8333 ms,
+  // 1 ms. Leapfrog with the mean of the previous and current step is exact in free fall; the
+  // GPU kicks the first step of each batch by that mean too.
+  BodyDescription body = smallBody();
+  body.material.physical.youngsModulus = 1e3; // 1 ms is then a stable step (5 ms is the limit)
+  SceneSettings scene;
+  scene.integrator = Integrator::Verlet;
+  scene.timeStep = 1e-3;
+  MAKE_GPU_OR_SKIP(gpuSimulation, body, scene);
+  MassSpringSimulation cpuSimulation(body, scene);
+  for (double t : { 0.02, 0.0437, 0.0462, 0.0662 })
+  {
+    gpuSimulation->advance(t);
+    cpuSimulation.advance(t);
+    for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
+    {
+      const Vec3 exact = body.mesh.points[i] + Vec3(0, 0, 0.5 * scene.gravity.z() * t * t);
+      ASSERT_LT((gpuSimulation->positions()[i] - exact).norm(), 1e-12)
+        << "t = " << t << ", CPU off by " << (cpuSimulation.positions()[i] - exact).norm();
+    }
+    EXPECT_LE(maxDifference(gpuSimulation->positions(), cpuSimulation.positions()), 1e-12);
+  }
+  EXPECT_EQ(gpuSimulation->stepCount(), 20u + 24u + 3u + 20u);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIntegrators, GpuAgainstCpu,
@@ -223,14 +341,22 @@ TEST(MassSpring, PlanNamesTheSameStagesAsTheCpu)
   const SceneSettings scene = busyScene(Integrator::Midpoint);
   MAKE_GPU_OR_SKIP(gpuSimulation, body, scene);
   MassSpringSimulation cpuSimulation(body, scene);
+  const auto start = std::chrono::steady_clock::now();
   gpuSimulation->advance(0.01);
+  (void)gpuSimulation->positions(); // a frame's download: the transfers stage
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::vector<Stage> expected = cpuSimulation.plan();
   expected.push_back(Stage::Transfers);
   EXPECT_EQ(gpuSimulation->plan(), expected);
+  // Every planned stage ran and was timed; together they took no longer than the advance and
+  // the download.
+  double total = 0.0;
   for (const StageTiming& timing : gpuSimulation->stageTimings())
   {
-    EXPECT_GE(timing.seconds, 0.0) << timing.label;
+    EXPECT_GT(timing.seconds, 0.0) << timing.label;
+    total += timing.seconds;
   }
+  EXPECT_LE(total, wall);
   EXPECT_FALSE(gpuSimulation->glRenderer().empty());
 }
 

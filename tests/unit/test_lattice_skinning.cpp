@@ -210,6 +210,98 @@ TEST(Skinning, TetBodiesUseBarycentricCoordinates)
   }
 }
 
+/// A non-rigid deformation in the span of 1, x, y, z, xy, yz, zx, xyz (trilinear in every
+/// lattice cell): it stretches, shears and bends, changing lengths and areas.
+Vec3 trilinearDeformation(const Vec3& p)
+{
+  return Vec3(1.2 * p.x() + 0.3 * p.x() * p.y(), 0.9 * p.y() + 0.2 * p.y() * p.z() + 0.1 * p.z(),
+    p.z() + 0.25 * p.x() * p.y() * p.z() - 0.15 * p.z() * p.x());
+}
+
+TEST(Skinning, LatticeFollowsANonRigidTrilinearDeformationExactly)
+{
+  // Trilinear weights reproduce any trilinear field exactly, inside a cell and extrapolated
+  // from the nearest full one: deforming the particles by such a map moves every bound vertex
+  // by the same map, although lengths and areas change by 10-30%.
+  const double r = 0.5;
+  const Lattice lattice = latticeOf(gridAround(0.6, 0.1), [&](const Vec3& p) { return p.norm() < r; });
+  std::vector<Vec3> surface = test::randomVectors(200, 1.0, 13);
+  for (std::size_t v = 0; v < surface.size(); ++v)
+  {
+    surface[v] = (v % 2 ? r : 0.6 * r) * surface[v].normalized(); // on the sphere and inside
+  }
+  const Skin skin = bindToLattice(lattice, surface);
+  EXPECT_GT(skin.outsideCount, 0u);
+  EXPECT_LT(skin.outsideCount, surface.size());
+  std::vector<Vec3> deformed = lattice.points;
+  for (Vec3& p : deformed)
+  {
+    p = trilinearDeformation(p);
+  }
+  std::vector<Vec3> skinned;
+  applySkin(skin, deformed, skinned);
+  for (std::size_t v = 0; v < surface.size(); ++v)
+  {
+    EXPECT_LT((skinned[v] - trilinearDeformation(surface[v])).norm(), 1e-12) << v;
+  }
+  const double before = (surface[1] - surface[0]).cross(surface[2] - surface[0]).norm();
+  const double after = (skinned[1] - skinned[0]).cross(skinned[2] - skinned[0]).norm();
+  EXPECT_GT(std::abs(after / before - 1.0), 0.05); // not a rigid motion
+}
+
+TEST(Skinning, TetBodiesInterpolateANonRigidDeformationLinearlyPerTet)
+{
+  // Under a non-affine deformation of the tet body a bound vertex moves to the barycentric
+  // mean of its tet's moved corners, with coordinates computed here from volume ratios; that is
+  // not the deformation of the vertex itself (linear interpolation error, checked to be > 1e-4).
+  const TetMesh mesh = makeTetBox(3, 3, 3, 0.1);
+  std::vector<Vec3> vertices = test::randomVectors(40, 0.14, 17);
+  std::vector<std::int32_t> tetOf(vertices.size(), -1);
+  std::vector<std::array<double, 4>> bary(vertices.size());
+  for (std::size_t v = 0; v < vertices.size(); ++v)
+  {
+    vertices[v] += Vec3::Constant(0.15);
+    for (std::size_t t = 0; t < mesh.tets.size() && tetOf[v] < 0; ++t)
+    {
+      const Tet& k = mesh.tets[t];
+      const std::array<Vec3, 4> p = { mesh.points[std::size_t(k[0])], mesh.points[std::size_t(k[1])],
+        mesh.points[std::size_t(k[2])], mesh.points[std::size_t(k[3])] };
+      const double V = signedTetVolume(p[0], p[1], p[2], p[3]);
+      const std::array<double, 4> b = { signedTetVolume(vertices[v], p[1], p[2], p[3]) / V,
+        signedTetVolume(p[0], vertices[v], p[2], p[3]) / V, signedTetVolume(p[0], p[1], vertices[v], p[3]) / V,
+        signedTetVolume(p[0], p[1], p[2], vertices[v]) / V };
+      if (*std::min_element(b.begin(), b.end()) >= 0.0)
+      {
+        tetOf[v] = static_cast<std::int32_t>(t);
+        bary[v] = b;
+      }
+    }
+    ASSERT_GE(tetOf[v], 0);
+  }
+  const Skin skin = bindToTets(mesh.points, mesh.tets, vertices, tetOf);
+  std::vector<Vec3> moved = mesh.points;
+  for (Vec3& p : moved)
+  {
+    p = trilinearDeformation(p) + Vec3(0.01 * std::sin(20 * p.z()), 0.0, 0.0);
+  }
+  std::vector<Vec3> skinned;
+  applySkin(skin, moved, skinned);
+  double interpolationError = 0.0;
+  for (std::size_t v = 0; v < vertices.size(); ++v)
+  {
+    const Tet& k = mesh.tets[std::size_t(tetOf[v])];
+    Vec3 expected = Vec3::Zero();
+    for (int c = 0; c < 4; ++c)
+    {
+      expected += bary[v][std::size_t(c)] * moved[std::size_t(k[c])];
+    }
+    EXPECT_LT((skinned[v] - expected).norm(), 1e-12) << v;
+    const Vec3 exact = trilinearDeformation(vertices[v]) + Vec3(0.01 * std::sin(20 * vertices[v].z()), 0.0, 0.0);
+    interpolationError = std::max(interpolationError, (skinned[v] - exact).norm());
+  }
+  EXPECT_GT(interpolationError, 1e-4);
+}
+
 TEST(Skinning, LatticeWithoutFullCellsIsRefused)
 {
   LatticeGrid grid;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numeric>
 
 using namespace softbody;
@@ -70,4 +71,21 @@ TEST(Mass, TruncationCapsInverseMassAndPinsAreImmovable)
   }
   EXPECT_EQ(capped.inverseMass[0], 0.0);
   EXPECT_GT(capped.mass[0], 0.0);
+}
+
+TEST(Mass, AverageIncidentVolumeOfEqualTetsIsUniform)
+{
+  // Every tet of a box split into Kuhn tets has the same volume, so the mean volume of each
+  // point's tets is that volume for every point (corners are in 1 tet, inner points in 24): the
+  // thesis's scheme gives every point the same mass, the lumped one does not.
+  const TetMesh mesh = makeTetBox(2, 2, 2, 0.05);
+  const Topology topology = buildTopology(mesh.points.size(), mesh.tets);
+  const PointMasses m = distributeMass(topology, tetVolumes(mesh), 2.7, MassDistribution::AverageIncidentVolume, 0.0, {});
+  for (double mass : m.mass)
+  {
+    EXPECT_NEAR(mass, 2.7 / 27.0, 1e-15);
+  }
+  const PointMasses lumped = distributeMass(topology, tetVolumes(mesh), 2.7, MassDistribution::LumpedVolume, 0.0, {});
+  EXPECT_GT(*std::max_element(lumped.mass.begin(), lumped.mass.end()),
+    4.0 * *std::min_element(lumped.mass.begin(), lumped.mass.end()));
 }

@@ -8,6 +8,10 @@
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
+#include "test_support.h"
+
+#include <cstdio>
+
 using namespace softbody;
 
 TEST(Stability, AmplificationMatchesTheTextbookLimits)
@@ -60,7 +64,95 @@ TEST(Stability, FrequencyBoundIsAnUpperBoundOfASingleSpring)
   EXPECT_LE(sim.highestFrequency(), 3.0 * omegaTrue);
 }
 
-TEST(Stability, AutomaticStepRunsAndAFarLargerStepIsCaughtWithItsTime)
+namespace
+{
+/// Whether `steps` steps of h, from the rest shape with small random velocities (no gravity, no
+/// floor), multiply the body's energy by more than 1000 (or blow it up).
+bool blowsUp(const BodyDescription& body, SceneSettings scene, double h, int steps)
+{
+  scene.timeStep = h;
+  scene.gravity = Vec3::Zero();
+  scene.floorEnabled = false;
+  scene.strainLimit = 0.0;
+  MassSpringSimulation sim(body, scene);
+  DynamicState start = sim.state();
+  start.velocities = test::randomVectors(start.positions.size(), 1e-3);
+  sim.restoreState(start);
+  auto energy = [&] {
+    double e = elasticEnergy(sim.topology(), sim.elementConstants(), sim.positions());
+    for (std::size_t i = 0; i < sim.positions().size(); ++i)
+    {
+      e += 0.5 * sim.masses()[i] * sim.velocities()[i].squaredNorm();
+    }
+    return e;
+  };
+  const double e0 = energy();
+  try
+  {
+    sim.advance(steps * h);
+  }
+  catch (const SimulationDivergedError&)
+  {
+    return true;
+  }
+  return !(energy() < 1e3 * e0);
+}
+
+/// The largest stable step of the simulation itself, bisected between lo (stable) and hi.
+double bisectedLimit(const BodyDescription& body, const SceneSettings& scene, double lo, double hi)
+{
+  for (int iteration = 0; iteration < 12; ++iteration)
+  {
+    const double mid = 0.5 * (lo + hi);
+    (blowsUp(body, scene, mid, 3000) ? hi : lo) = mid;
+  }
+  return lo;
+}
+} // namespace
+
+TEST(Stability, AutomaticStepIsInANarrowBandBelowTheBisectedLimit)
+{
+  // The automatic step (0.9 x the estimate from a Gershgorin bound on omega_max) against the
+  // largest step at which the body itself stays stable, found by bisection (3000 steps from
+  // random velocities, energy x1000 = unstable; resolution ~0.1%). Below it always (else the
+  // automatic step blows up), and where it was measured, within 5%: the bound on omega_max is
+  // conservative, so the automatic step is 0.43 of the true limit for undamped Verlet and 0.14
+  // to 0.25 for the damped methods (the damped limits are bisected from the energy growth, which
+  // is slow near them: those limits are upper estimates). A wrong factor in the bound, the
+  // safety fraction or an amplification matrix moves these ratios by more than 5%.
+  struct Case
+  {
+    Integrator integrator;
+    double dampingTime;
+    double measuredRatio;
+  };
+  const Case cases[] = {
+    { Integrator::Verlet, 0.0, 0.428 },
+    { Integrator::EulerCromer, 2e-3, 0.247 },
+    { Integrator::Midpoint, 2e-3, 0.136 },
+    { Integrator::Euler, 2e-3, 0.194 },
+  };
+  for (const Case& c : cases)
+  {
+    BodyDescription body;
+    body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 0.1));
+    body.material.physical.dampingTime = c.dampingTime;
+    SceneSettings scene;
+    scene.integrator = c.integrator;
+    const MassSpringSimulation automatic(body, scene);
+    const double h = automatic.stepSize();
+    ASSERT_GT(h, 0.0);
+    const double limit = bisectedLimit(body, scene, 0.5 * h, 8.0 * h);
+    const double ratio = h / limit;
+    std::printf("%s: automatic step %.4g s, bisected limit %.4g s, ratio %.3f\n",
+      integratorName(c.integrator), h, limit, ratio);
+    EXPECT_LT(ratio, 1.0) << integratorName(c.integrator);
+    EXPECT_NEAR(ratio / c.measuredRatio, 1.0, 0.05) << integratorName(c.integrator);
+    EXPECT_FALSE(blowsUp(body, scene, h, 3000)) << integratorName(c.integrator);
+  }
+}
+
+TEST(Stability, AFarLargerStepIsCaughtWithItsTime)
 {
   BodyDescription body;
   body.mesh = makeTetBox(4, 4, 4, 0.05, Vec3(0, 0, 0.1));
@@ -69,8 +161,8 @@ TEST(Stability, AutomaticStepRunsAndAFarLargerStepIsCaughtWithItsTime)
   scene.integrator = Integrator::Verlet;
   scene.floorEnabled = true;
   MassSpringSimulation automatic(body, scene);
-  EXPECT_NO_THROW(automatic.advance(0.5));
-  EXPECT_GT(automatic.stepSize(), 0.0);
+  automatic.advance(0.5);
+  EXPECT_GT(automatic.stepCount(), 100u);
 
   scene.timeStep = 4.0 * automatic.estimatedStableStep();
   MassSpringSimulation tooLarge(body, scene);

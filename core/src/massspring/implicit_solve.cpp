@@ -70,6 +70,32 @@ std::size_t ImplicitStepSolver::capture(std::vector<Vec3>& x, std::vector<PointM
     sum);
 }
 
+std::size_t ImplicitStepSolver::holdPointsHeadingIntoTheFloor()
+{
+  // A free point lying on the floor (put there earlier, then released) that the direction
+  // drives into it would bend the search path at any step length, and the bent path need not
+  // descend: hold it now, so the direction slides it along the floor instead.
+  return parallelReduce(
+    X.size(), 4096, std::size_t{ 0 },
+    [&](std::size_t i) -> std::size_t {
+      if (Filter.motion[i] != PointMotion::Free || !(Direction[i].dot(Filter.normal) < 0.0))
+      {
+        return 0;
+      }
+      const double depth = (X[i] - FloorOrigin).dot(Filter.normal);
+      const double rounding =
+        64.0 * std::numeric_limits<double>::epsilon() * (X[i].norm() + FloorOrigin.norm());
+      if (depth > rounding)
+      {
+        return 0;
+      }
+      Filter.motion[i] = PointMotion::OnPlane;
+      Direction[i] = Filter.apply(i, Direction[i]);
+      return 1;
+    },
+    sum);
+}
+
 std::size_t ImplicitStepSolver::release()
 {
   return parallelReduce(
@@ -88,11 +114,16 @@ std::size_t ImplicitStepSolver::release()
 
 bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, ImplicitConvergence& c)
 {
-  const Iterate at{ plan, X, Gradient, Filter, Restart, Residual / Reference, Goal / Reference };
+  const Iterate at{ plan, X, Gradient, Filter, Restart, Residual / StartResidual,
+    Goal / StartResidual };
   c.linearIterationsTotal += static_cast<unsigned long long>(rule(at, Direction));
   Restart = false;
 
   ScopedStageTimer timer(plan, Stage::Forces);
+  if (Floor && holdPointsHeadingIntoTheFloor() > 0)
+  {
+    filterGradient();
+  }
   double slope = dot(Gradient, Direction);
   if (!(slope < 0.0))
   {
@@ -166,21 +197,40 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
   {
     ScopedStageTimer timer(plan, Stage::Forces);
     Potential.beginStep(state.positions, state.velocities, h);
-    Potential.predict(X);
-    Filter.motion.resize(X.size());
-    for (std::size_t i = 0; i < X.size(); ++i)
+    TrialGradient.resize(state.positions.size());
+    // Two starting points, keep the lower Phi: the explicit prediction y + h^2 g is exact in
+    // free fall; y alone is far better for a body resting on the floor (gravity's drift would
+    // push its whole bottom through the floor and back).
+    double bestEnergy = std::numeric_limits<double>::infinity();
+    for (bool withGravity : { true, false })
     {
-      Filter.motion[i] = Potential.active()[i] ? PointMotion::Free : PointMotion::Fixed;
+      Potential.predict(Trial, withGravity);
+      TrialMotion.resize(Trial.size());
+      for (std::size_t i = 0; i < Trial.size(); ++i)
+      {
+        TrialMotion[i] = Potential.active()[i] ? PointMotion::Free : PointMotion::Fixed;
+      }
+      if (Floor)
+      {
+        capture(Trial, TrialMotion); // the points whose start lies below the floor
+      }
+      const double energy = Potential.evaluate(Trial, TrialGradient);
+      if (energy < bestEnergy)
+      {
+        bestEnergy = energy;
+        std::swap(X, Trial);
+        std::swap(Filter.motion, TrialMotion);
+      }
+      if (!Floor)
+      {
+        break; // without contact the prediction is always the better start
+      }
     }
-    if (Floor)
-    {
-      capture(X, Filter.motion); // the points whose prediction ends below the floor
-    }
-    TrialGradient.resize(X.size());
     evaluateAtX();
   }
   Reference = Potential.referenceAcceleration(GravityNorm);
   Goal = Settings.tolerance * Reference; // 0 (Projective Dynamics): run every iteration
+  StartResidual = std::max(Residual, std::numeric_limits<double>::min());
   c.residualHistory.assign(1, Residual / Reference);
   c.iterations = 0;
   Restart = true;

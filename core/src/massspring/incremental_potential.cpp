@@ -61,12 +61,11 @@ void IncrementalPotential::beginStep(
   });
 }
 
-void IncrementalPotential::predict(std::vector<Vec3>& x) const
+void IncrementalPotential::predict(std::vector<Vec3>& x, bool withGravity) const
 {
+  const Vec3 drift = withGravity ? Vec3(H * H * Gravity) : Vec3::Zero();
   x.resize(Target.size());
-  parallelFor(Target.size(), 4096, [&](std::size_t i) {
-    x[i] = Active[i] ? Vec3(Target[i] + H * H * Gravity) : X0[i];
-  });
+  parallelFor(Target.size(), 4096, [&](std::size_t i) { x[i] = Active[i] ? Vec3(Target[i] + drift) : X0[i]; });
 }
 
 void IncrementalPotential::elementPass(const std::vector<Vec3>& x)

@@ -2,7 +2,7 @@
 // potential (incremental_potential.h) by Newton's method (implicit_solve.h: line search, floor
 // active set). Each Newton iteration solves H d = -grad Phi with block-Jacobi preconditioned
 // conjugate gradients (block_pcg.h) on the assembled PSD-projected Hessian, to a relative
-// accuracy that tightens as Newton converges (eta = min(0.1, r / r_ref): quadratic convergence
+// accuracy that tightens as Newton converges (eta = min(0.1, r / r_0): quadratic convergence
 // where the Hessian is exact) but never much below what the tolerance needs. Stable at any
 // step, first order; its numerical dissipation grows with h (it damps the modes above ~1/h).
 #pragma once

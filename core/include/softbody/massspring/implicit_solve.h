@@ -37,8 +37,8 @@ public:
     const std::vector<Vec3>& gradient;
     const MotionFilter& filter;
     bool restart;
-    double relativeResidual;
-    double relativeGoal;
+    double relativeResidual; ///< residual over the step's starting residual
+    double relativeGoal;     ///< the tolerance's goal over the step's starting residual
   };
   /// Fills `direction` with a descent direction of Phi, filtered by the filter. Returns the
   /// linear iterations it ran (0 if none).
@@ -67,6 +67,8 @@ private:
   std::size_t capture(std::vector<Vec3>& x, std::vector<PointMotion>& motion) const;
   /// Releases held points the floor would have to pull down.
   std::size_t release();
+  /// Holds free points on the floor that the search direction drives into it.
+  std::size_t holdPointsHeadingIntoTheFloor();
 
   IncrementalPotential& Potential;
   ImplicitSettings Settings;
@@ -77,7 +79,7 @@ private:
   MotionFilter Filter;
   std::vector<PointMotion> TrialMotion;
   bool Restart = true;
-  double Reference = 1.0, Goal = 0.0, Energy = 0.0, Residual = 0.0;
+  double Reference = 1.0, Goal = 0.0, Energy = 0.0, Residual = 0.0, StartResidual = 1.0;
   std::vector<Vec3> X, Trial, Gradient, TrialGradient, Filtered, Direction;
 };
 

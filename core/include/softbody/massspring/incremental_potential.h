@@ -41,8 +41,9 @@ public:
   /// Starts a step of h from (x0, v0): the inertial target y and the frozen damping directions.
   void beginStep(const std::vector<Vec3>& x0, const std::vector<Vec3>& v0, double h);
 
-  /// The explicit prediction y + h^2 g (x0 for fixed points): Newton's starting point.
-  void predict(std::vector<Vec3>& x) const;
+  /// A starting point: the inertial target y = x0 + h v0, plus h^2 g when `withGravity` (the
+  /// explicit prediction, exact in free fall); x0 for fixed points.
+  void predict(std::vector<Vec3>& x, bool withGravity) const;
 
   /// Phi(x) [J]; also fills the gradient [N] (zero on fixed points) and keeps the tet data
   /// that assembleHessian() reuses.
