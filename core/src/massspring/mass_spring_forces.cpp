@@ -37,6 +37,23 @@ void springForces(const Topology& topology, const ElementConstants& c,
   });
 }
 
+/// Pass 1, volumes: f_i = s dV/dp_i with s = -(k' (V - V0) + k_d' dV/dt), dV/dt = sum g_j.v_j.
+void volumeForceScales(const Topology& topology, const ElementConstants& c,
+  const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<double>& out)
+{
+  parallelFor(topology.tets.size(), kElementGrain, [&](std::size_t t) {
+    const Tet& tet = topology.tets[t];
+    const auto g = tetVolumeGradients(x[tet[0]], x[tet[1]], x[tet[2]], x[tet[3]]);
+    const double volume = signedTetVolume(x[tet[0]], x[tet[1]], x[tet[2]], x[tet[3]]);
+    double volumeRate = 0.0;
+    for (int k = 0; k < 4; ++k)
+    {
+      volumeRate += g[k].dot(v[tet[k]]);
+    }
+    out[t] = -(c.volumeStiffness[t] * (volume - c.restVolume[t]) + c.volumeDamping[t] * volumeRate);
+  });
+}
+
 /// dV/dp of one corner, without computing the other three.
 Vec3 cornerVolumeGradient(const std::vector<Vec3>& x, const Tet& tet, int corner)
 {
@@ -49,29 +66,6 @@ Vec3 cornerVolumeGradient(const std::vector<Vec3>& x, const Tet& tet, int corner
   return (pk - pj).cross(pl - pj) / 6.0;
 }
 
-/// Pass 1, volumes: f_i = s dV/dp_i with s = -(k' (V - V0) + k_d' dV/dt), dV/dt = sum g_j.v_j,
-/// written per corner (4 t + i). Each corner's gradient is computed as the gather computed it
-/// before (cornerVolumeGradient), so the forces are the same bit for bit.
-void volumeCornerForces(const Topology& topology, const ElementConstants& c,
-  const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& out)
-{
-  parallelFor(topology.tets.size(), kElementGrain, [&](std::size_t t) {
-    const Tet& tet = topology.tets[t];
-    const auto g = tetVolumeGradients(x[tet[0]], x[tet[1]], x[tet[2]], x[tet[3]]);
-    const double volume = signedTetVolume(x[tet[0]], x[tet[1]], x[tet[2]], x[tet[3]]);
-    double volumeRate = 0.0;
-    for (int k = 0; k < 4; ++k)
-    {
-      volumeRate += g[k].dot(v[tet[k]]);
-    }
-    const double scale = -(c.volumeStiffness[t] * (volume - c.restVolume[t]) + c.volumeDamping[t] * volumeRate);
-    for (int k = 0; k < 4; ++k)
-    {
-      out[4 * t + static_cast<std::size_t>(k)] = scale * cornerVolumeGradient(x, tet, k);
-    }
-  });
-}
-
 } // namespace
 
 void computeInternalForces(const Topology& topology, const ElementConstants& constants,
@@ -82,8 +76,8 @@ void computeInternalForces(const Topology& topology, const ElementConstants& con
   springForces(topology, constants, positions, velocities, scratch.springForce);
   if (constants.hasVolumeTerm)
   {
-    scratch.tetCornerForce.resize(4 * topology.tets.size());
-    volumeCornerForces(topology, constants, positions, velocities, scratch.tetCornerForce);
+    scratch.tetScale.resize(topology.tets.size());
+    volumeForceScales(topology, constants, positions, velocities, scratch.tetScale);
   }
 
   // Pass 2: gather in CSR order (fixed), one writer per vertex.
@@ -102,7 +96,9 @@ void computeInternalForces(const Topology& topology, const ElementConstants& con
       const Csr& corners = topology.vertexTetCorners;
       for (std::int32_t k = corners.offsets[i]; k < corners.offsets[i + 1]; ++k)
       {
-        sum += scratch.tetCornerForce[static_cast<std::size_t>(corners.items[k])];
+        const std::int32_t tetCorner = corners.items[k];
+        const std::int32_t t = tetCorner / 4;
+        sum += scratch.tetScale[t] * cornerVolumeGradient(positions, topology.tets[t], tetCorner % 4);
       }
     }
     forces[i] = sum;

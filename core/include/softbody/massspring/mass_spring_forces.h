@@ -18,11 +18,7 @@ namespace softbody
 struct ForceScratch
 {
   std::vector<Vec3> springForce; ///< force on edge.a (edge.b gets its negative) [N]
-  /// Force on corner k of tet t, at 4 t + k: s_t dV/dp_k [N]. Computed in the tet pass, where
-  /// the tet's corners are at hand, so the per-vertex gather reads one vector per corner
-  /// instead of the tet's indices, three positions and a cross product (on a 180k-tet TetGen
-  /// mesh the gather was 60% of the force evaluation).
-  std::vector<Vec3> tetCornerForce;
+  std::vector<double> tetScale;  ///< force on corner i is tetScale * dV/dp_i [N/m^2]
 };
 
 /// Sum of spring and volume forces on every vertex, including their damping terms.
