@@ -18,6 +18,7 @@
 #include "bench_meshes.h"
 #include "scenes/stretched_cloth.h"
 #include "bench_options.h"
+#include "memory_bandwidth.h"
 
 #include "softbody/pbd/cloth.h"
 #include "softbody/pbd/pbd_reordered.h"
@@ -117,6 +118,11 @@ void throughput(const bench::Options& options, int maxThreads)
   const std::vector<bench::NamedMesh> meshes =
     bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
   const bench::NamedMesh* box = bench::referenceBox(meshes);
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(maxThreads));
+    std::printf("\ncores this process gets at %d threads (compute probe; bounds any speed-up): %.2f\n",
+      maxThreads, bench::measureComputeParallelism(options.smoke ? 1 : 5));
+  }
   // Seconds per projection of the reference box in its generated order, per solver and
   // thread count.
   std::map<std::pair<int, int>, double> boxPerProjection;
