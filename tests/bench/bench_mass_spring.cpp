@@ -123,7 +123,9 @@ int main(int argc, char** argv)
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     bandwidth.push_back(bench::measureTriadBandwidth(probeElements, options.smoke ? 2 : 5));
-    std::printf("triad bandwidth, %d thread(s): %.2f GB/s\n", threads, bandwidth.back() / 1e9);
+    std::printf("triad bandwidth, %d thread(s): %.2f GB/s; cores this process gets (compute "
+                "probe): %.2f\n", threads, bandwidth.back() / 1e9,
+      bench::measureComputeParallelism(options.smoke ? 1 : 5));
   }
 
   const std::vector<bench::NamedMesh> meshes =

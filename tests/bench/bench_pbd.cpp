@@ -18,6 +18,7 @@
 #include "bench_meshes.h"
 #include "scenes/stretched_cloth.h"
 #include "bench_options.h"
+#include "memory_bandwidth.h"
 
 #include "softbody/pbd/cloth.h"
 #include "softbody/pbd/pbd_reordered.h"
@@ -100,6 +101,16 @@ void convergence(const bench::Options& options, int maxThreads)
   }
 }
 
+/// Least bytes one XPBD iteration streams with core's layout (doubles, int32 indices), each
+/// array once per sweep (the floor pass and anything cached between constraints left out):
+///   per link: ends 8, rest 8, broken 1, params 16, lambda read and written 16        49 B
+///   per tet:  corners 16, rest volume 8, broken 1, params 16, lambda 16              57 B
+///   per particle: position read and written 48, inverse mass 8 (once per batch)    112 B
+double modelledBytesPerIteration(std::size_t particles, std::size_t links, std::size_t tets)
+{
+  return 49.0 * double(links) + 57.0 * double(tets) + 112.0 * double(particles);
+}
+
 const char* solverName(PbdSolver solver)
 {
   return solver == PbdSolver::GaussSeidel ? "Gauss-Seidel"
@@ -111,24 +122,35 @@ void throughput(const bench::Options& options, int maxThreads)
 {
   std::ofstream csv(options.csv + "_throughput.csv");
   csv << "mesh,tets,links,ordering,solver,threads,ms_per_iteration,ms_per_iteration_median,"
-         "cpu_ms_per_iteration,"
+         "cpu_ms_per_iteration,time_over_bandwidth_bound,"
          "projections_per_second_per_thread,speedup,time_over_input_order,"
          "per_projection_time_over_box,state_hash\n";
   const std::vector<bench::NamedMesh> meshes =
     bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
   const bench::NamedMesh* box = bench::referenceBox(meshes);
+  std::map<int, double> bandwidth; // threads -> triad bytes/s
+  for (int threads : { 1, maxThreads })
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    bandwidth[threads] = bench::measureTriadBandwidth(options.smoke ? (1u << 20) : (1u << 24), options.smoke ? 2 : 5);
+    std::printf("\ntriad bandwidth, %d thread(s): %.2f GB/s; cores this process gets (compute "
+                "probe; bounds any speed-up): %.2f", threads, bandwidth[threads] / 1e9,
+      bench::measureComputeParallelism(options.smoke ? 1 : 5));
+  }
+  std::printf("\n");
   // Seconds per projection of the reference box in its generated order, per solver and
   // thread count.
   std::map<std::pair<int, int>, double> boxPerProjection;
   std::printf("\nXPBD, 10 iterations per step, edges + tet volumes + floor. ms/iter: minimum (median) "
               "of %d run(s), wall time of the solve stages; 'cpu ms': least CPU time of the calling "
               "thread per iteration, whole step included (1 thread only; leaves out time other "
-              "processes held the core); '/input': time over the same mesh in input order; 'x box': "
+              "processes held the core); 'x bw': time over the modelled bytes per iteration at the "
+              "triad bandwidth; '/input': time over the same mesh in input order; 'x box': "
               "per-projection time over %s's in input order\n",
     options.repeat, box ? box->name.c_str() : "(no box)");
-  std::printf("%-22s %7s %7s %-6s %-22s %3s %8s %8s %8s %13s %7s %6s %6s\n", "mesh", "tets", "links",
-    "order", "solver", "thr", "ms/iter", "(median)", "cpu ms", "proj/s/thread", "speedup", "/input",
-    "x box");
+  std::printf("%-22s %7s %7s %-6s %-22s %3s %8s %8s %8s %13s %7s %6s %6s %6s\n", "mesh", "tets",
+    "links", "order", "solver", "thr", "ms/iter", "(median)", "cpu ms", "proj/s/thread", "speedup",
+    "x bw", "/input", "x box");
   for (const auto& named : meshes)
   {
     std::map<std::pair<int, int>, double> inputOrder; // (solver, threads) -> s/iteration
@@ -201,15 +223,18 @@ void throughput(const bench::Options& options, int maxThreads)
           const double overBox =
             boxPerProjection.count(key) ? t.min / perIteration / boxPerProjection[key] : 0.0;
           const double perThread = perIteration / t.min / threads;
-          std::printf("%-22s %7zu %7zu %-6s %-22s %3d %8.3f %8.3f %8.3f %13.3g %7.2f %6.2f %6.2f %016llx%s\n",
+          const double overBound = t.min /
+            (modelledBytesPerIteration(named.mesh.points.size(), sim->links().size(), sim->volumes().size()) /
+              bandwidth[threads]);
+          std::printf("%-22s %7zu %7zu %-6s %-22s %3d %8.3f %8.3f %8.3f %13.3g %7.2f %6.2f %6.2f %6.2f %016llx%s\n",
             named.name.c_str(), sim->volumes().size(), sim->links().size(),
             vertexOrderingName(ordering), solverName(solver), threads, 1e3 * t.min, 1e3 * t.median,
             1e3 * cpu,
-            perThread, oneThread / t.min, overInput, overBox, static_cast<unsigned long long>(hash),
+            perThread, oneThread / t.min, overBound, overInput, overBox, static_cast<unsigned long long>(hash),
             hash == firstHash ? "" : "  HASH DIFFERS");
           csv << named.name << ',' << sim->volumes().size() << ',' << sim->links().size() << ','
               << vertexOrderingName(ordering) << ',' << int(solver) << ',' << threads << ','
-              << 1e3 * t.min << ',' << 1e3 * t.median << ',' << 1e3 * cpu << ',' << perThread << ',' << oneThread / t.min
+              << 1e3 * t.min << ',' << 1e3 * t.median << ',' << 1e3 * cpu << ',' << overBound << ',' << perThread << ',' << oneThread / t.min
               << ',' << overInput << ',' << overBox << ',' << hash << '\n';
           if (hash != firstHash)
           {

@@ -28,4 +28,49 @@ double measureTriadBandwidth(std::size_t elements, int repetitions)
   return 3.0 * sizeof(double) * double(elements) / best;
 }
 
+namespace
+{
+/// A dependent chain of multiply-adds per index: compute-bound, in registers.
+double chain(std::size_t seed)
+{
+  double x = 1.0 + 1e-9 * double(seed);
+  for (int k = 0; k < 20000; ++k)
+  {
+    x = x * 0.999999 + 1e-7;
+  }
+  return x;
+}
+
+double bestSeconds(std::size_t tasks, int repetitions, bool parallel)
+{
+  std::vector<double> out(tasks);
+  double best = 1e30;
+  for (int r = 0; r < repetitions; ++r)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    if (parallel)
+    {
+      softbody::parallelFor(tasks, 1, [&](std::size_t i) { out[i] = chain(i); });
+    }
+    else
+    {
+      for (std::size_t i = 0; i < tasks; ++i)
+      {
+        out[i] = chain(i);
+      }
+    }
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  volatile double sink = out[tasks / 2];
+  (void)sink;
+  return best;
+}
+} // namespace
+
+double measureComputeParallelism(int repetitions)
+{
+  const std::size_t tasks = 256;
+  return bestSeconds(tasks, repetitions, false) / bestSeconds(tasks, repetitions, true);
+}
+
 } // namespace softbody::bench

@@ -12,4 +12,10 @@ namespace softbody::bench
 /// write-allocate), as STREAM does.
 double measureTriadBandwidth(std::size_t elements, int repetitions);
 
+/// How many cores this process actually gets at the current TBB parallelism: the work rate of a
+/// compute-bound loop (no memory traffic) over the rate of the same loop on the calling thread
+/// alone. 2.0 on an idle 2-core machine; near 1 when other processes hold the second core, and
+/// then no parallel speed-up above it can be measured.
+double measureComputeParallelism(int repetitions);
+
 } // namespace softbody::bench
