@@ -21,11 +21,32 @@ using namespace softbody;
 namespace
 {
 
-/// Largest |x_gpu - x_cpu| over the body's size, after the GPU path has taken its steps in
-/// double precision too. Measured on Mesa llvmpipe: 0 (bitwise equal) for every integrator;
-/// the bound leaves room for GPUs whose sqrt or division round differently (1 ulp per
-/// operation, amplified over the steps by the dynamics).
+/// Largest |x_gpu - x_cpu| over the body's size while the motion is smooth (free fall, before
+/// any threshold-triggered stage acts), after the GPU path has taken its steps in double
+/// precision too. Measured: 0 (bitwise equal) on Mesa llvmpipe, 1e-16 on an NVIDIA H200.
 constexpr double kRelativeTolerance = 1e-9;
+
+/// Bounds once the stages that act on a threshold have acted (the strain limiter past its
+/// limit, floor contact). Mesa's llvmpipe rounds every double operation as the CPU does and
+/// stays bitwise equal (measured), so the tight bound holds there. A hardware GPU fuses
+/// multiply-adds and rounds sqrt and division its own way: a 1-ulp difference then decides
+/// differently for a point right at a threshold, and that different decision (a limiter
+/// correction, a contact) is what separates the runs. Measured on an NVIDIA H200 after 532-579
+/// steps: up to 4.4e-5 of the size and 0.021 m/s. A wrong kernel is off by far more (a
+/// dropped term moves the body by millimetres within a few steps: tests/mutation).
+struct Tolerance
+{
+  double position; ///< of the body's size
+  double velocity; ///< m/s
+};
+template <typename GpuSimulation>
+Tolerance afterThresholdStages(const GpuSimulation& gpu)
+{
+  const std::string renderer = gpu.glRenderer();
+  const bool software = renderer.find("llvmpipe") != std::string::npos ||
+    renderer.find("softpipe") != std::string::npos;
+  return software ? Tolerance{ kRelativeTolerance, 1e-9 } : Tolerance{ 2e-4, 0.1 };
+}
 
 BodyDescription smallBody(bool pinTop = false)
 {
@@ -154,7 +175,11 @@ TEST_P(GpuAgainstCpu, SameStatesAfterManyStepsWithEveryStage)
               << " steps: max |dx| / size = " << dx / size << ", max |dv| = " << dv << " m/s"
               << (bitwiseEqual(gpuSimulation->positions(), cpuSimulation.positions()) ? " (bitwise equal)" : "")
               << "\n";
-    EXPECT_LE(dx / size, kRelativeTolerance);
+    // The first frame is free fall: smooth, so tight on every GPU.
+    const Tolerance bound =
+      t < 0.03 ? Tolerance{ kRelativeTolerance, 1e-9 } : afterThresholdStages(*gpuSimulation);
+    EXPECT_LE(dx / size, bound.position) << gpuSimulation->glRenderer();
+    EXPECT_LE(dv, bound.velocity) << gpuSimulation->glRenderer();
   }
   // The body moved (the comparison is not between two resting bodies).
   EXPECT_GT(maxDifference(cpuSimulation.positions(), cpuSimulation.restPositions()), 1e-3);
@@ -177,9 +202,11 @@ TEST_P(GpuAgainstCpu, SameStatesAfterManyStepsWithEveryStage)
   const std::vector<double> gpuRatios = gpuSimulation->tetVolumeRatios();
   const std::vector<double> cpuRatios = cpuSimulation.tetVolumeRatios();
   ASSERT_EQ(gpuRatios.size(), cpuRatios.size());
+  // A position bound b (of the 0.12 m size) moves a 0.02 m cell's volume by up to ~3 * 6 b.
+  const double ratioBound = std::max(1e-6, 18.0 * afterThresholdStages(*gpuSimulation).position);
   for (std::size_t t = 0; t < gpuRatios.size(); ++t)
   {
-    ASSERT_NEAR(gpuRatios[t], cpuRatios[t], 1e-6);
+    ASSERT_NEAR(gpuRatios[t], cpuRatios[t], ratioBound);
   }
 }
 
@@ -200,8 +227,10 @@ TEST(MassSpring, SameStatesAsTheCpuWhenHangingFromPinsWithTheLimiterActing)
     const double dx = maxDifference(gpuSimulation->positions(), cpuSimulation.positions());
     std::cout << integratorName(integrator) << " hanging, " << cpuSimulation.stepCount()
               << " steps: max |dx| / size = " << dx / size << "\n";
-    EXPECT_LE(dx / size, kRelativeTolerance);
-    EXPECT_LE(maxDifference(gpuSimulation->velocities(), cpuSimulation.velocities()), 1e-9);
+    const Tolerance bound = afterThresholdStages(*gpuSimulation);
+    EXPECT_LE(dx / size, bound.position) << gpuSimulation->glRenderer();
+    EXPECT_LE(maxDifference(gpuSimulation->velocities(), cpuSimulation.velocities()), bound.velocity)
+      << gpuSimulation->glRenderer();
     for (std::size_t i = 0; i < body.pinned.size(); ++i)
     {
       if (body.pinned[i])
