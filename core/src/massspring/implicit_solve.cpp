@@ -14,6 +14,12 @@ namespace
 
 constexpr double kArmijo = 1e-4; // sufficient decrease of Phi along a Newton direction
 constexpr int kMaxHalvings = 40; // 2^-40: the direction is useless long before
+/// A free point closer to the floor than this fraction of its approach in a full step is held
+/// on the floor before the line search (see holdPointsOnTheFloorPath).
+constexpr double kHoldFraction = 1e-3;
+/// Direction solves per iteration while new points get held (then the line search's ratio
+/// test takes care of the rest).
+constexpr int kMaxHoldSolves = 3;
 
 double dot(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
 {
@@ -46,6 +52,15 @@ void ImplicitStepSolver::filterGradient()
   Residual = Potential.residualAcceleration(Filtered);
 }
 
+double ImplicitStepSolver::filteredResidual(
+  const std::vector<Vec3>& gradient, const std::vector<PointMotion>& motion)
+{
+  const MotionFilter filter{ motion, Filter.normal };
+  Scratch.resize(gradient.size());
+  parallelFor(gradient.size(), 4096, [&](std::size_t i) { Scratch[i] = filter.apply(i, gradient[i]); });
+  return Potential.residualAcceleration(Scratch);
+}
+
 void ImplicitStepSolver::evaluateAtX()
 {
   Energy = Potential.evaluate(X, Gradient);
@@ -70,22 +85,21 @@ std::size_t ImplicitStepSolver::capture(std::vector<Vec3>& x, std::vector<PointM
     sum);
 }
 
-std::size_t ImplicitStepSolver::holdPointsHeadingIntoTheFloor()
+std::size_t ImplicitStepSolver::holdPointsOnTheFloorPath()
 {
-  // A free point lying on the floor (put there earlier, then released) that the direction
-  // drives into it would bend the search path at any step length, and the bent path need not
-  // descend: hold it now, so the direction slides it along the floor instead.
+  // A free point on the floor (or within a tiny fraction of this step above it) that the
+  // direction drives into it would stop every step length at almost nothing: hold it now, so
+  // the direction slides it along the floor instead.
   return parallelReduce(
     X.size(), 4096, std::size_t{ 0 },
     [&](std::size_t i) -> std::size_t {
-      if (Filter.motion[i] != PointMotion::Free || !(Direction[i].dot(Filter.normal) < 0.0))
+      const double approach = -Direction[i].dot(Filter.normal);
+      if (Filter.motion[i] != PointMotion::Free || !(approach > 0.0))
       {
         return 0;
       }
       const double depth = (X[i] - FloorOrigin).dot(Filter.normal);
-      const double rounding =
-        64.0 * std::numeric_limits<double>::epsilon() * (X[i].norm() + FloorOrigin.norm());
-      if (depth > rounding)
+      if (depth > kHoldFraction * approach)
       {
         return 0;
       }
@@ -94,6 +108,23 @@ std::size_t ImplicitStepSolver::holdPointsHeadingIntoTheFloor()
       return 1;
     },
     sum);
+}
+
+double ImplicitStepSolver::floorReach() const
+{
+  // The ratio test of active-set methods: the largest alpha <= 1 at which no free point has
+  // crossed the floor.
+  return parallelReduce(
+    X.size(), 4096, 1.0,
+    [&](std::size_t i) {
+      const double approach = -Direction[i].dot(Filter.normal);
+      if (Filter.motion[i] != PointMotion::Free || !(approach > 0.0))
+      {
+        return 1.0;
+      }
+      return std::max(0.0, (X[i] - FloorOrigin).dot(Filter.normal)) / approach;
+    },
+    [](double a, double b) { return std::min(a, b); });
 }
 
 std::size_t ImplicitStepSolver::release()
@@ -114,16 +145,24 @@ std::size_t ImplicitStepSolver::release()
 
 bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, ImplicitConvergence& c)
 {
-  const Iterate at{ plan, X, Gradient, Filter, Restart, Residual / StartResidual,
-    Goal / StartResidual };
-  c.linearIterationsTotal += static_cast<unsigned long long>(rule(at, Direction));
-  Restart = false;
-
-  ScopedStageTimer timer(plan, Stage::Forces);
-  if (Floor && holdPointsHeadingIntoTheFloor() > 0)
+  // The direction, solved again while it drives points lying on the floor into it: holding
+  // them changes the system (cutting their motion out of a stiff body's direction afterwards
+  // would leave a direction that strains it enormously).
+  for (int solve = 0; solve < kMaxHoldSolves; ++solve)
   {
+    const Iterate at{ plan, X, Gradient, Filter, Restart, Residual / StartResidual,
+      Goal / StartResidual };
+    c.linearIterationsTotal += static_cast<unsigned long long>(rule(at, Direction));
+    Restart = false;
+    ScopedStageTimer timer(plan, Stage::Floor);
+    if (!Floor || holdPointsOnTheFloorPath() == 0)
+    {
+      break;
+    }
     filterGradient();
   }
+
+  ScopedStageTimer timer(plan, Stage::Forces);
   double slope = dot(Gradient, Direction);
   if (!(slope < 0.0))
   {
@@ -139,27 +178,17 @@ bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, Impl
       return false; // zero filtered gradient: nothing left to do
     }
   }
-  double alpha = 1.0;
+  const double reach = Floor ? floorReach() : 1.0; // before a free point crosses the floor
+  // Backtracking from the longest admissible step: no trial crosses the floor, so the path
+  // stays straight and the Armijo test is the plain one.
+  double alpha = reach;
   double trialEnergy = Energy;
-  std::size_t captured = 0;
   bool accepted = false;
   for (int halving = 0; halving <= kMaxHalvings && !accepted; ++halving)
   {
     Trial.resize(X.size());
     parallelFor(X.size(), 4096, [&](std::size_t i) { Trial[i] = X[i] + alpha * Direction[i]; });
-    double allowed = Search == LineSearch::Armijo ? kArmijo * alpha * slope : 0.0;
-    captured = 0;
-    if (Floor)
-    {
-      TrialMotion = Filter.motion;
-      captured = capture(Trial, TrialMotion);
-      if (captured > 0 && Search == LineSearch::Armijo)
-      {
-        // The projection bent the path: ask for a decrease along the step actually taken.
-        parallelFor(X.size(), 4096, [&](std::size_t i) { TrialGradient[i] = Trial[i] - X[i]; });
-        allowed = std::min(0.0, kArmijo * dot(Gradient, TrialGradient));
-      }
-    }
+    const double allowed = Search == LineSearch::Armijo ? kArmijo * alpha * slope : 0.0;
     trialEnergy = Potential.evaluate(Trial, TrialGradient);
     accepted = trialEnergy <= Energy + allowed;
     if (!accepted)
@@ -170,8 +199,20 @@ bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, Impl
   }
   if (!accepted)
   {
-    Potential.evaluate(X, TrialGradient); // restore the element data of x
-    return false;
+    // Near the solution of a stiff body Phi's changes drown in its rounding (its terms are
+    // ~1e16 times the last iterations' decrease), and no step length passes the test. The
+    // longest step is then taken if it lowers the residual, which stays measurable there.
+    alpha = reach;
+    parallelFor(X.size(), 4096, [&](std::size_t i) { Trial[i] = X[i] + alpha * Direction[i]; });
+    trialEnergy = Potential.evaluate(Trial, TrialGradient);
+    const double trialResidual = filteredResidual(TrialGradient, Filter.motion);
+    const bool withinRounding = std::abs(trialEnergy - Energy) <=
+      1024.0 * std::numeric_limits<double>::epsilon() * std::abs(Energy);
+    if (!(withinRounding && trialResidual < 0.5 * Residual))
+    {
+      Potential.evaluate(X, TrialGradient); // restore the element data of x
+      return false;
+    }
   }
   // A decrease of Phi within its rounding and a residual that no longer halves: the iterate
   // sits at the floor of double precision (stiff bodies reach it above small tolerances).
@@ -181,14 +222,16 @@ bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, Impl
   std::swap(X, Trial);
   std::swap(Gradient, TrialGradient);
   Energy = trialEnergy;
-  if (captured > 0)
+  // The points that stopped the step reached the floor: from now on they slide along it.
+  const std::size_t landed = (Floor && alpha == reach && reach < 1.0) ? capture(X, Filter.motion) : 0;
+  if (landed > 0)
   {
-    std::swap(Filter.motion, TrialMotion);
+    Energy = Potential.evaluate(X, Gradient); // they moved by rounding onto the plane
   }
   filterGradient();
   ++c.iterations;
   c.residualHistory.push_back(Residual / Reference);
-  return !(flatEnergy && Residual > 0.5 * previousResidual && captured == 0);
+  return !(flatEnergy && Residual > 0.5 * previousResidual && landed == 0);
 }
 
 void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,

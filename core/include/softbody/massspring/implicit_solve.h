@@ -3,10 +3,10 @@
 // directions the integrator supplies (Newton + PCG, or Projective Dynamics' prefactored solve),
 // with a backtracking line search on Phi, until the residual acceleration is below the
 // tolerance. The floor is an inequality handled inside the solve by an active set updated at
-// every iteration (a primal active-set / projected Newton method): a trial point that would end
-// below the floor is put on it and from then on slides along it (the motion filter), and a
-// held point the floor would have to pull down (Phi's gradient pointing into the floor) is
-// released. So the floor holds exactly at every iterate and the rest of the body answers it in
+// every iteration (a primal active-set method): the line search starts from the longest step
+// at which no free point crosses the floor (the ratio test), points that reach it are held on
+// it and from then on slide along it (the motion filter), and a held point the floor would
+// have to pull down (Phi's gradient pointing into the floor) is released. So the floor holds exactly at every iterate and the rest of the body answers it in
 // the same step, instead of being crushed by a projection afterwards. Contact is frictionless
 // and inelastic, as the explicit integrators' floor.
 #pragma once
@@ -63,12 +63,16 @@ private:
   bool iterate(StepPlan& plan, const DirectionRule& direction, ImplicitConvergence& c);
   void evaluateAtX();
   void filterGradient();
+  /// The residual acceleration of `gradient` filtered by `motion`.
+  double filteredResidual(const std::vector<Vec3>& gradient, const std::vector<PointMotion>& motion);
   /// Puts the free points of `x` that lie below the floor on it, held (OnPlane) in `motion`.
   std::size_t capture(std::vector<Vec3>& x, std::vector<PointMotion>& motion) const;
   /// Releases held points the floor would have to pull down.
   std::size_t release();
-  /// Holds free points on the floor that the search direction drives into it.
-  std::size_t holdPointsHeadingIntoTheFloor();
+  /// Holds free points on (or all but on) the floor that the search direction drives into it.
+  std::size_t holdPointsOnTheFloorPath();
+  /// The longest step length (<= 1) along the direction before a free point crosses the floor.
+  double floorReach() const;
 
   IncrementalPotential& Potential;
   ImplicitSettings Settings;
@@ -80,7 +84,7 @@ private:
   std::vector<PointMotion> TrialMotion;
   bool Restart = true;
   double Reference = 1.0, Goal = 0.0, Energy = 0.0, Residual = 0.0, StartResidual = 1.0;
-  std::vector<Vec3> X, Trial, Gradient, TrialGradient, Filtered, Direction;
+  std::vector<Vec3> X, Trial, Gradient, TrialGradient, Filtered, Direction, Scratch;
 };
 
 } // namespace softbody
