@@ -66,14 +66,6 @@ BodyDescription cantilever(int nx, double cell, const PhysicalMaterial& material
   return body;
 }
 
-std::filesystem::path sharedData()
-{
-#ifdef SOFTBODY_SHARED_DATA_DIR
-  return SOFTBODY_SHARED_DATA_DIR;
-#else
-  return {};
-#endif
-}
 
 } // namespace
 
@@ -289,8 +281,8 @@ TEST(ImplicitIntegrators, SteelCantileverRunsAtFrameRateSteps)
 // default material at 1/60 s steps: dropped on the floor, it lands without blowing up.
 TEST(ImplicitIntegrators, SliverMeshRunsAtFrameRateSteps)
 {
-  const std::filesystem::path file = sharedData() / "IPC" / "bunny.msh";
-  if (sharedData().empty() || !std::filesystem::exists(file))
+  const std::filesystem::path file = test::sharedData() / "IPC" / "bunny.msh";
+  if (test::sharedData().empty() || !std::filesystem::exists(file))
   {
     GTEST_SKIP() << "shared data not found (" << file << "): skipping the sliver mesh";
   }

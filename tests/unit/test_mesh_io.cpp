@@ -4,6 +4,7 @@
 #include "softbody/common/errors.h"
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/mesh/mesh_io.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -326,17 +327,7 @@ TEST_F(MeshFiles, GmshBadFiles)
 }
 
 // ../shared/data: real meshes with their published counts (data/README.md there).
-namespace
-{
-fs::path sharedData()
-{
-#ifdef SOFTBODY_SHARED_DATA_DIR
-  return SOFTBODY_SHARED_DATA_DIR;
-#else
-  return {};
-#endif
-}
-} // namespace
+using test::sharedData;
 
 TEST(SharedMeshes, LoadWithPublishedCounts)
 {

@@ -3,6 +3,7 @@
 
 #include "softbody/common/geometry.h"
 
+#include <filesystem>
 #include <random>
 #include <vector>
 
@@ -19,6 +20,17 @@ inline std::vector<Vec3> jitter(std::vector<Vec3> points, double amplitude, unsi
     p += Vec3(u(rng), u(rng), u(rng));
   }
   return points;
+}
+
+/// ../shared/data (the public meshes), or empty when the build was configured without it;
+/// tests skip with a message when it is empty or absent.
+inline std::filesystem::path sharedData()
+{
+#ifdef SOFTBODY_SHARED_DATA_DIR
+  return SOFTBODY_SHARED_DATA_DIR;
+#else
+  return {};
+#endif
 }
 
 inline std::vector<Vec3> randomVectors(std::size_t count, double amplitude, unsigned seed = 11)

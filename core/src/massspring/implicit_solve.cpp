@@ -20,6 +20,8 @@ constexpr double kHoldFraction = 1e-3;
 /// Direction solves per iteration while new points get held (then the line search's ratio
 /// test takes care of the rest).
 constexpr int kMaxHoldSolves = 3;
+/// Step halvings tried along the path bent by the floor before the straight one.
+constexpr int kBentHalvings = 8;
 
 double dot(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
 {
@@ -133,7 +135,10 @@ std::size_t ImplicitStepSolver::release()
     X.size(), 4096, std::size_t{ 0 },
     [&](std::size_t i) -> std::size_t {
       // Held, and Phi drops by lifting it (its gradient points into the floor): let go.
-      if (Filter.motion[i] == PointMotion::OnPlane && Gradient[i].dot(Filter.normal) < 0.0)
+      // (Only when the pull is above the tolerance: a point whose pull is within it would be
+      // put back at once, and each round trip costs a solve.)
+      if (Filter.motion[i] == PointMotion::OnPlane &&
+        Gradient[i].dot(Filter.normal) * Potential.inverseMass(i) < -Goal)
       {
         Filter.motion[i] = PointMotion::Free;
         return 1;
@@ -179,11 +184,38 @@ bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, Impl
     }
   }
   const double reach = Floor ? floorReach() : 1.0; // before a free point crosses the floor
-  // Backtracking from the longest admissible step: no trial crosses the floor, so the path
-  // stays straight and the Armijo test is the plain one.
-  double alpha = reach;
+  // First the full step with the points that would cross the floor stopped on it (a bent
+  // path: the Armijo test then asks for a decrease along the displacement actually taken).
+  // That is what lets a body settle onto the floor in a few iterations; a stiff body pressed
+  // against it can find no such step (stopping a few points strains it enormously), and then
+  // the search backtracks along the straight path from the longest step that crosses nothing.
+  double alpha = 1.0;
   double trialEnergy = Energy;
   bool accepted = false;
+  std::size_t captured = 0;
+  for (int halving = 0; Floor && reach < 1.0 && halving < kBentHalvings && !accepted; ++halving)
+  {
+    Trial.resize(X.size());
+    parallelFor(X.size(), 4096, [&](std::size_t i) { Trial[i] = X[i] + alpha * Direction[i]; });
+    TrialMotion = Filter.motion;
+    captured = capture(Trial, TrialMotion);
+    Scratch.resize(X.size());
+    parallelFor(X.size(), 4096, [&](std::size_t i) { Scratch[i] = Trial[i] - X[i]; });
+    const double allowed =
+      Search == LineSearch::Armijo ? std::min(0.0, kArmijo * dot(Gradient, Scratch)) : 0.0;
+    trialEnergy = Potential.evaluate(Trial, TrialGradient);
+    accepted = trialEnergy <= Energy + allowed;
+    if (accepted)
+    {
+      std::swap(Filter.motion, TrialMotion);
+    }
+    else
+    {
+      alpha *= 0.5;
+      ++c.lineSearchHalvings;
+    }
+  }
+  alpha = reach;
   for (int halving = 0; halving <= kMaxHalvings && !accepted; ++halving)
   {
     Trial.resize(X.size());
@@ -223,8 +255,9 @@ bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, Impl
   std::swap(Gradient, TrialGradient);
   Energy = trialEnergy;
   // The points that stopped the step reached the floor: from now on they slide along it.
-  const std::size_t landed = (Floor && alpha == reach && reach < 1.0) ? capture(X, Filter.motion) : 0;
-  if (landed > 0)
+  const std::size_t landed = captured +
+    ((Floor && alpha == reach && reach < 1.0) ? capture(X, Filter.motion) : 0);
+  if (landed > captured)
   {
     Energy = Potential.evaluate(X, Gradient); // they moved by rounding onto the plane
   }
