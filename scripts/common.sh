@@ -8,6 +8,7 @@
 #   SOFTBODY_BUILD_DIR   build folder (default: <repo>/build)
 #   SOFTBODY_JOBS        parallel build jobs (default: nproc)
 #   SOFTBODY_SKIP_APT=1  skip the package check (e.g. a machine with ParaView built from source)
+#   SOFTBODY_NO_CCACHE=1 configure without ccache even where it is installed (used when present)
 #   SOFTBODY_CMAKE_ARGS  array of extra CMake arguments for the configure (test.sh --asan/--tsan
 #                        set -DSOFTBODY_SANITIZER=...); a cached build folder is configured
 #                        again when they are given
@@ -90,6 +91,11 @@ softbody_configure_and_build() {
     extra=("${SOFTBODY_CMAKE_ARGS[@]}")
   fi
   if [[ ! -f "${SOFTBODY_BUILD_DIR}/CMakeCache.txt" ]]; then
+    # A compiler cache, when the machine has one, makes rebuilds in fresh folders cheap; it
+    # never changes what is built.
+    if command -v ccache >/dev/null 2>&1 && [[ -z "${SOFTBODY_NO_CCACHE:-}" ]]; then
+      extra+=("-DCMAKE_C_COMPILER_LAUNCHER=ccache" "-DCMAKE_CXX_COMPILER_LAUNCHER=ccache")
+    fi
     softbody_log "configuring ${SOFTBODY_BUILD_DIR} ${extra[*]}"
     cmake -S "${SOFTBODY_ROOT}" -B "${SOFTBODY_BUILD_DIR}" -G Ninja -DCMAKE_BUILD_TYPE=Release \
       "${extra[@]}"
