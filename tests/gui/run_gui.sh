@@ -26,9 +26,11 @@ export SOFTBODY_GUI_RESULT="${work}/result.txt" SOFTBODY_GUI_SHOT="${shot}"
 # --dr: the user's ParaView settings must not change what Apply does. HOME and the runtime dir
 # in the scratch folder, so nothing is written to (or read from) the real ones.
 export HOME="${work}" XDG_RUNTIME_DIR="${work}"
-# Two tries, as tests/python/xvfb_run.sh: only when the X display itself failed.
-for attempt in 1 2; do
-  timeout "${SOFTBODY_GUI_TIMEOUT:-120}" xvfb-run -a -s "-screen 0 1280x800x24" \
+# Three tries, as tests/python/xvfb_run.sh: only when the X display itself failed, then on a
+# random display number (another test run's server may hold the one `-a` picks).
+display=(-a)
+for attempt in 1 2 3; do
+  timeout "${SOFTBODY_GUI_TIMEOUT:-120}" xvfb-run "${display[@]}" -s "-screen 0 1280x800x24" \
     paraview --dr --script="${script}" >"${work}/log.txt" 2>&1
   status=$?
   if [[ -f "${SOFTBODY_GUI_RESULT}" ]] ||
@@ -36,6 +38,7 @@ for attempt in 1 2; do
     break
   fi
   echo "run_gui.sh: attempt ${attempt}: the X display failed (status ${status})" >&2
+  display=(-n "$((200 + RANDOM % 700))")
 done
 if [[ ! -f "${SOFTBODY_GUI_RESULT}" ]]; then
   echo "FAIL: the GUI ended (status ${status}) without a verdict; its output:"
