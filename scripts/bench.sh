@@ -4,8 +4,9 @@
 # summary into output/bench/, and scripts/plot_accuracy.py draws run time against error per scene
 # (log-log, one curve per method, the Pareto front marked) when matplotlib is there.
 #
-#   scripts/bench.sh                    every scene (about 10 minutes on 2 cores)
-#   scripts/bench.sh --quick            reduced sweeps, about a minute (CTest runs this one)
+#   scripts/bench.sh                    every scene (about 5 minutes on 2 cores)
+#   scripts/bench.sh --quick            reduced sweeps, ~15 s, into output/bench/quick (CTest runs
+#                                       bench_accuracy --quick, without the plots)
 #   scripts/bench.sh bar stability      only these: freefall bar cantilever restitution incline
 #                                       spot stability stress
 #   scripts/bench.sh --no-plots ...     CSVs and tables only
@@ -13,10 +14,12 @@
 # SOFTBODY_BENCH_OUT overrides output/bench; SOFTBODY_DATA_DIR the public meshes (../shared/data).
 set -euo pipefail
 plots=1
+quick=0
 args=()
 for arg in "$@"; do
   case "${arg}" in
     --no-plots) plots=0 ;;
+    --quick) quick=1; args+=("${arg}") ;;
     *) args+=("${arg}") ;;
   esac
 done
@@ -24,7 +27,10 @@ done
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 softbody_setup
 
-out="${SOFTBODY_BENCH_OUT:-${SOFTBODY_ROOT}/output/bench}"
+# --quick writes beside the full run's results, not over them.
+default_out="${SOFTBODY_ROOT}/output/bench"
+[[ ${quick} -eq 1 ]] && default_out="${default_out}/quick"
+out="${SOFTBODY_BENCH_OUT:-${default_out}}"
 data="${SOFTBODY_DATA_DIR:-${SOFTBODY_ROOT}/../shared/data}"
 mkdir -p "${out}"
 softbody_log "running bench_accuracy ${args[*]:-} into ${out}"
