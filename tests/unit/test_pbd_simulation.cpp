@@ -163,6 +163,34 @@ TEST(PbdSimulation, RestitutionAndFrictionAtTheFloor)
   EXPECT_NEAR(slide.velocities()[5].x(), 2.0 - 0.3 * 9.81 * 0.4, 0.01);
 }
 
+TEST(PbdSimulation, FrictionCarriesTheWeightOfTheWholeBody)
+{
+  // A block three particle layers thick slides on the floor with initial speed u: Coulomb
+  // friction takes mu g per second off every particle's speed, the upper layers' weight
+  // included (it reaches the floor through the constraints). Counting only each bottom
+  // particle's own weight slowed it by a third of that.
+  PbdBody body;
+  const TetMesh mesh = makeTetBox(2, 2, 2, 0.05);
+  body.points = mesh.points;
+  body.tets = mesh.tets;
+  PbdSettings settings;
+  settings.formulation = PbdFormulation::Pbd;
+  settings.floorEnabled = true;
+  settings.friction = 0.3;
+  settings.timeStep = 1e-3;
+  PbdSimulation slide(body, settings);
+  DynamicState moving = slide.state();
+  std::fill(moving.velocities.begin(), moving.velocities.end(), Vec3(2.0, 0, 0));
+  slide.restoreState(moving);
+  slide.advance(0.4);
+  double vx = 0.0;
+  for (const Vec3& v : slide.velocities())
+  {
+    vx += v.x() / double(slide.velocities().size());
+  }
+  EXPECT_NEAR(vx, 2.0 - 0.3 * 9.81 * 0.4, 0.05);
+}
+
 // Residual history of one step of the thesis's test: a 50 x 50 cloth stretched 16 times and
 // released (no gravity), at PBD stiffness 1.
 std::vector<double> stretchedClothResiduals(PbdSolver solver, double relaxation, int iterations)

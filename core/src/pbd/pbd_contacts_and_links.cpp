@@ -22,6 +22,7 @@ void PbdSimulation::projectFloor()
     {
       Predicted[i] += p.dx[0];
       InContact[i] = 1;
+      FloorPush[i] += p.dx[0].dot(floor.normal);
     }
   });
 }
@@ -45,8 +46,13 @@ void PbdSimulation::applyContactResponse(double h)
     {
       normal = std::max(normal, -Settings.restitution * incoming);
     }
-    // Coulomb: the tangential speed drops by at most mu times the normal speed change.
-    const double normalChange = std::max(0.0, normal - incoming);
+    // Coulomb: the tangential speed drops by at most mu times the normal impulse per unit mass.
+    // That impulse is the normal speed change plus what the floor pushed beyond stopping this
+    // particle: the weight of the particles above it, carried down by the constraints (the
+    // floor's corrections over the iterations, FloorPush / h). Without that term a body with
+    // more than one layer of particles gets the friction of its bottom layer's weight only.
+    const double carried = std::max(0.0, FloorPush[i] / h + incoming);
+    const double normalChange = std::max(0.0, normal - incoming) + carried;
     const double speed = tangential.norm();
     if (speed > 0.0)
     {

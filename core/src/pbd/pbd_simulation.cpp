@@ -231,6 +231,7 @@ void PbdSimulation::substep(double h, bool recordResiduals)
   if (Plan.runs(Stage::SolveFloor))
   {
     InContact.assign(State.positions.size(), 0);
+    FloorPush.assign(State.positions.size(), 0.0);
   }
   solve(recordResiduals);
   updateVelocities(h);

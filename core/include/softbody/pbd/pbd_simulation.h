@@ -117,6 +117,7 @@ private:
   std::vector<Vec3> Predicted;
   std::vector<Vec3> VelocityBefore; ///< velocity entering the solve (for restitution)
   std::vector<unsigned char> InContact;
+  std::vector<double> FloorPush; ///< sum of the floor's corrections along its normal this substep [m]
   std::vector<Vec3> JacobiScratch;
   double ParametersStep = -1.0;
 };

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# The accuracy and stability lab (issue 13): same set-up as scripts/test.sh (packages, configure,
+# build), then bench_accuracy writes one CSV per scene, the stability and stress tables and a
+# summary into output/bench/, and scripts/plot_accuracy.py draws run time against error per scene
+# (log-log, one curve per method, the Pareto front marked) when matplotlib is there.
+#
+#   scripts/bench.sh                    every scene (about 5 minutes on 2 cores)
+#   scripts/bench.sh --quick            reduced sweeps, ~15 s, into output/bench/quick (CTest runs
+#                                       bench_accuracy --quick, without the plots)
+#   scripts/bench.sh bar stability      only these: freefall bar cantilever restitution incline
+#                                       spot stability stress
+#   scripts/bench.sh --no-plots ...     CSVs and tables only
+#
+# SOFTBODY_BENCH_OUT overrides output/bench; SOFTBODY_DATA_DIR the public meshes (../shared/data).
+set -euo pipefail
+plots=1
+quick=0
+args=()
+for arg in "$@"; do
+  case "${arg}" in
+    --no-plots) plots=0 ;;
+    --quick) quick=1; args+=("${arg}") ;;
+    *) args+=("${arg}") ;;
+  esac
+done
+# shellcheck source=scripts/common.sh
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+softbody_setup
+
+# --quick writes beside the full run's results, not over them.
+default_out="${SOFTBODY_ROOT}/output/bench"
+[[ ${quick} -eq 1 ]] && default_out="${default_out}/quick"
+out="${SOFTBODY_BENCH_OUT:-${default_out}}"
+data="${SOFTBODY_DATA_DIR:-${SOFTBODY_ROOT}/../shared/data}"
+mkdir -p "${out}"
+softbody_log "running bench_accuracy ${args[*]:-} into ${out}"
+status=0
+"${SOFTBODY_BUILD_DIR}/bin/bench_accuracy" --data "${data}" --out "${out}" ${args[@]+"${args[@]}"} \
+  | tee "${out}/bench_accuracy.log" || status=$?
+
+if [[ ${plots} -eq 1 ]]; then
+  # Debian's matplotlib is for Debian's python3 (/usr/bin/python3), not a pyenv or venv one.
+  python=/usr/bin/python3
+  [[ -x "${python}" ]] || python="$(command -v python3)"
+  if ! "${python}" -c "import matplotlib" >/dev/null 2>&1; then
+    if [[ "$(id -u)" == "0" && "${SOFTBODY_SKIP_APT:-0}" != "1" ]]; then
+      softbody_log "installing python3-matplotlib for the plots (apt-get, as root)"
+      apt-get install -y --no-install-recommends python3-matplotlib >&2 || true
+    fi
+  fi
+  if "${python}" -c "import matplotlib" >/dev/null 2>&1; then
+    "${python}" "${SOFTBODY_ROOT}/scripts/plot_accuracy.py" "${out}"
+  else
+    softbody_log "matplotlib is missing: no plots (sudo apt-get install python3-matplotlib); the CSVs are in ${out}"
+  fi
+fi
+if [[ ${status} -ne 0 ]]; then
+  softbody_log "FAILED: bench_accuracy exit status ${status} (its failed checks are listed above)"
+fi
+exit "${status}"
