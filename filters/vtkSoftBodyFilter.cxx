@@ -378,7 +378,11 @@ int vtkSoftBodyFilter::RequestData(
   this->FillConvergence(convergence);
   if (surface)
   {
-    this->Internals->Skin.Fill(surface, this->Internals->Simulation->positions(), skinned);
+    softbody::FloorPlane floor;
+    floor.origin = softbody::Vec3(this->P.FloorOrigin[0], this->P.FloorOrigin[1], this->P.FloorOrigin[2]);
+    floor.normal = softbody::Vec3(this->P.FloorNormal[0], this->P.FloorNormal[1], this->P.FloorNormal[2]);
+    this->Internals->Skin.Fill(surface, this->Internals->Simulation->positions(), skinned,
+      this->P.Floor != 0 ? &floor : nullptr);
   }
   vtkSoftBodyFloorOutput::Fill(
     this->P.Floor != 0, this->P.FloorOrigin, this->P.FloorNormal, input->GetBounds(), floorOutput);

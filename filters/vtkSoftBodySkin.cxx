@@ -217,11 +217,15 @@ std::string vtkSoftBodySkin::BindToTets(vtkUnstructuredGrid* body, const std::ve
 }
 
 //------------------------------------------------------------------------------
-void vtkSoftBodySkin::Fill(
-  vtkPolyData* surface, const std::vector<softbody::Vec3>& particles, vtkPolyData* output) const
+void vtkSoftBodySkin::Fill(vtkPolyData* surface, const std::vector<softbody::Vec3>& particles,
+  vtkPolyData* output, const softbody::FloorPlane* floor) const
 {
   std::vector<softbody::Vec3> moved;
   softbody::applySkin(this->Skin, particles, moved);
+  if (floor)
+  {
+    softbody::keepAboveFloor(*floor, moved);
+  }
   auto points = vtkSmartPointer<vtkPoints>::New();
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(static_cast<vtkIdType>(moved.size()));

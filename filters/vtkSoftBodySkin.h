@@ -31,7 +31,9 @@ public:
 
   /// `output` = `surface` (same cells and arrays) with its points moved onto the body's
   /// current particle positions and its point normals recomputed.
-  void Fill(vtkPolyData* surface, const std::vector<softbody::Vec3>& particles, vtkPolyData* output) const;
+  /// With a floor, vertices that the skin puts below it are moved onto it (render correction).
+  void Fill(vtkPolyData* surface, const std::vector<softbody::Vec3>& particles, vtkPolyData* output,
+    const softbody::FloorPlane* floor = nullptr) const;
 
   std::size_t GetOutsideCount() const { return this->Skin.outsideCount; }
 

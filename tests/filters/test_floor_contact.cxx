@@ -4,6 +4,7 @@
 #include "filter_test_support.h"
 
 #include "vtkCellData.h"
+#include "vtkCubeSource.h"
 #include "vtkPolyData.h"
 
 #include <sstream>
@@ -140,5 +141,22 @@ int main()
   }
 
   SB_CHECK(f.Messages->Errors.empty(), f.Messages->AllErrors());
+
+  // A Surface reaching 2 cm below the body (bound by extrapolation, as a voxelized body's is)
+  // stays on the floor once the body rests there: the skin alone would put it 2 cm below.
+  {
+    vtkNew<vtkCubeSource> cube;
+    cube->SetBounds(-0.01, 0.16, -0.01, 0.16, 0.08, 0.26);
+    cube->Update();
+    sbtest::CapturedFilter g(box);
+    g.Filter->SetInputData(1, cube->GetOutput());
+    g.Filter->SetEndTime(1.0);
+    SB_CHECK(g.Update(1.0), g.Messages->AllErrors());
+    vtkPolyData* skinned = vtkPolyData::SafeDownCast(g.Filter->GetOutputDataObject(3));
+    const double surfaceMinZ = skinned ? MinZ(sbtest::PointsOf(skinned)) : -1.0;
+    SB_CHECK(surfaceMinZ >= -tolerance && surfaceMinZ < 1e-3,
+      "the skinned surface rests on the floor: min z = " << surfaceMinZ);
+    SB_CHECK(MinZ(sbtest::PointsOf(g.Mesh())) < 1e-3, "the body rests on the floor");
+  }
   return sbtest::Result("filter.floor_contact");
 }

@@ -137,6 +137,59 @@ TEST(Skinning, UndeformedLatticeReproducesTheSurfaceExactly)
   }
 }
 
+TEST(Skinning, SurfaceBelowTheFloorIsMovedOntoIt)
+{
+  // A body resting on the floor z = 0 (its lowest particles on it): surface vertices bound by
+  // extrapolation below its bottom layer come out below the floor until corrected.
+  const Lattice lattice = latticeOf(gridAround(0.6, 0.1), [&](const Vec3& p) { return p.norm() < 0.5; });
+  double bottom = 1e9;
+  for (const Vec3& p : lattice.points)
+  {
+    bottom = std::min(bottom, p.z());
+  }
+  std::vector<Vec3> surface = test::randomVectors(200, 1.0, 3);
+  for (Vec3& v : surface)
+  {
+    v = 0.55 * v.normalized();
+  }
+  const Skin skin = bindToLattice(lattice, surface);
+  std::vector<Vec3> particles = lattice.points;
+  for (Vec3& p : particles)
+  {
+    p.z() -= bottom; // rests on z = 0
+  }
+  std::vector<Vec3> skinned;
+  applySkin(skin, particles, skinned);
+  const auto lowest = [&] {
+    double z = 1e9;
+    for (const Vec3& v : skinned)
+    {
+      z = std::min(z, v.z());
+    }
+    return z;
+  };
+  ASSERT_LT(lowest(), -0.01);
+  const std::vector<Vec3> before = skinned;
+  FloorPlane floor;
+  const std::size_t moved = keepAboveFloor(floor, skinned);
+  EXPECT_GT(moved, 0u);
+  EXPECT_EQ(lowest(), 0.0);
+  std::size_t changed = 0;
+  for (std::size_t v = 0; v < skinned.size(); ++v)
+  {
+    changed += skinned[v] != before[v] ? 1 : 0;
+    if (before[v].z() >= 0.0)
+    {
+      EXPECT_EQ(skinned[v], before[v]); // above the floor: untouched
+    }
+    else
+    {
+      EXPECT_EQ(skinned[v].head<2>(), before[v].head<2>()); // moved along the normal only
+    }
+  }
+  EXPECT_EQ(changed, moved);
+}
+
 TEST(Skinning, RigidMotionOfTheBodyMovesTheSurfaceRigidly)
 {
   const double r = 0.5;

@@ -353,6 +353,7 @@ const DynamicState& ReorderedSimulation::state() const
     Out.previousStep = in.previousStep;
     Out.linkRestLengths = in.linkRestLengths;
     Out.linkBroken = in.linkBroken;
+    Out.impactSpeeds = toInputOrder(in.impactSpeeds, Map.vertexOrder);
     Stale = false;
   }
   return Out;
@@ -368,6 +369,7 @@ void ReorderedSimulation::restoreState(const DynamicState& snapshot)
   DynamicState stored = snapshot;
   stored.positions = toStorageOrder(snapshot.positions, Map.vertexOrder);
   stored.velocities = toStorageOrder(snapshot.velocities, Map.vertexOrder);
+  stored.impactSpeeds = toStorageOrder(snapshot.impactSpeeds, Map.vertexOrder);
   Inner->restoreState(stored);
   Out = snapshot;
   Stale = false;

@@ -60,6 +60,85 @@ void PbdSimulation::applyContactResponse(double h)
     }
     v = tangential + normal * n;
   });
+  if (!State.impactSpeeds.empty())
+  {
+    applyBodyRestitution(h);
+  }
+}
+
+void PbdSimulation::applyBodyRestitution(double h)
+{
+  // Restitution point by point is exact only where a body's points all hit at once (a flat
+  // cloth, loose particles). A tet body hits with its bottom layer: those points leave at e v,
+  // the constraints give that momentum back to the rest of the body, which still moves down,
+  // and the body comes to rest over a few substeps whatever e is. So restitution also acts on
+  // whole bodies: when a body first touches while its centre of mass approaches faster than
+  // the resting speed, that speed I is recorded; when the body has left the floor again or has
+  // stopped on it (two substeps in a row), its centre of mass gets the normal speed it lacks
+  // to leave at e I. It only adds: a body that bounces by its own elasticity keeps it.
+  const Vec3& n = Settings.floor.normal;
+  const double restingSpeed = 2.0 * Settings.gravity.norm() * h;
+  const double e = Settings.restitution;
+  const std::size_t bodies = BodyFirstPoint.size();
+  std::vector<double> mass(bodies, 0.0), before(bodies, 0.0), after(bodies, 0.0);
+  std::vector<char> touching(bodies, 0), held(bodies, 0);
+  for (std::size_t i = 0; i < State.positions.size(); ++i)
+  {
+    const std::int32_t b = BodyOf[i];
+    if (InverseMass[i] == 0.0)
+    {
+      held[b] = 1;
+      continue;
+    }
+    const double m = 1.0 / InverseMass[i];
+    mass[b] += m;
+    before[b] += m * VelocityBefore[i].dot(n);
+    after[b] += m * State.velocities[i].dot(n);
+    if (InContact[i])
+    {
+      touching[b] = 1;
+    }
+  }
+  std::vector<double> boost(bodies, 0.0), impact(bodies, 0.0);
+  for (std::size_t b = 0; b < bodies; ++b)
+  {
+    if (held[b] || mass[b] == 0.0)
+    {
+      continue;
+    }
+    const double vBefore = before[b] / mass[b], vAfter = after[b] / mass[b];
+    double speed = State.impactSpeeds[BodyFirstPoint[b]];
+    if (speed == 0.0 && touching[b] && vBefore < -restingSpeed)
+    {
+      speed = -vBefore;
+    }
+    if (speed != 0.0 && vAfter > -restingSpeed)
+    {
+      const double I = std::abs(speed);
+      const bool left = !touching[b];
+      const bool stopped = touching[b] && vAfter < restingSpeed;
+      if (left || (stopped && speed < 0.0))
+      {
+        const double add = e * I - vAfter;
+        boost[b] = add > 1e-6 * I ? add : 0.0;
+        speed = 0.0;
+      }
+      else
+      {
+        speed = stopped ? -I : I; // stopped once: wait one substep (a rebound passes zero)
+      }
+    }
+    impact[b] = speed;
+  }
+  for (std::size_t i = 0; i < State.positions.size(); ++i)
+  {
+    const std::int32_t b = BodyOf[i];
+    State.impactSpeeds[i] = impact[b];
+    if (boost[b] != 0.0 && InverseMass[i] > 0.0)
+    {
+      State.velocities[i] += boost[b] * n;
+    }
+  }
 }
 
 void PbdSimulation::updateLinks(double h)

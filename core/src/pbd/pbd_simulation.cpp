@@ -21,7 +21,12 @@ void PbdSimulation::restoreState(const DynamicState& snapshot)
   {
     throw InvalidInputError("The snapshot does not belong to this simulation.");
   }
+  const bool bounces = !State.impactSpeeds.empty();
   State = snapshot;
+  if (bounces && State.impactSpeeds.size() != State.positions.size())
+  {
+    State.impactSpeeds.assign(State.positions.size(), 0.0); // a snapshot from before bounces
+  }
   LinkStateStale = false;
   if (!State.linkRestLengths.empty())
   {

@@ -82,6 +82,9 @@ private:
   void projectFloor();
   void updateVelocities(double h);
   void applyContactResponse(double h);
+  void applyBodyRestitution(double h);
+  void labelBodies();
+  void liftBodiesOntoFloor();
   void updateLinks(double h);
   void markBrokenTets();
   void storeLinksAndVolumesByColor();
@@ -96,6 +99,8 @@ private:
   std::vector<Vec3> Rest;
   std::vector<double> InverseMass;
   std::vector<char> Movable;
+  std::vector<std::int32_t> BodyOf; ///< point -> connected body (links and tet edges)
+  std::vector<std::int32_t> BodyFirstPoint; ///< body -> its lowest point index
   double TotalMass = 0.0;
   DistanceBatch Links;
   VolumeBatch Volumes;
