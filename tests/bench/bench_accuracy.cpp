@@ -865,14 +865,7 @@ bool blowsUp(const BodyDescription& body, SceneSettings scene, double h, double 
     v = Vec3(u(random), u(random), u(random));
   }
   sim.restoreState(start);
-  auto energy = [&] {
-    double e = elasticEnergy(sim.topology(), sim.elementConstants(), sim.positions());
-    for (std::size_t i = 0; i < sim.positions().size(); ++i)
-    {
-      e += 0.5 * sim.masses()[i] * sim.velocities()[i].squaredNorm();
-    }
-    return e;
-  };
+  auto energy = [&] { return sim.mechanicalEnergy(); };
   const double e0 = energy();
   try
   {

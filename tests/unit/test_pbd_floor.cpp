@@ -1,6 +1,7 @@
 // PBD/XPBD at the floor: bodies that start below it, and restitution of tet bodies.
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/pbd/pbd_simulation.h"
+#include "pbd_test_bodies.h"
 
 #include <gtest/gtest.h>
 
@@ -14,12 +15,7 @@ namespace
 {
 PbdBody boxBody(int n, double cell, const Vec3& origin)
 {
-  const TetMesh mesh = makeTetBox(n, n, n, cell, origin);
-  PbdBody body;
-  body.points = mesh.points;
-  body.tets = mesh.tets;
-  body.density = 1000.0;
-  return body;
+  return test::pbdBoxBody(n, cell, origin);
 }
 
 struct Motion

@@ -6,6 +6,7 @@
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/pbd/pbd_simulation.h"
+#include "pbd_test_bodies.h"
 
 #include "test_support.h"
 
@@ -22,12 +23,7 @@ namespace
 {
 PbdBody boxBody(int n, double cell, const Vec3& origin = Vec3::Zero())
 {
-  const TetMesh mesh = makeTetBox(n, n, n, cell, origin);
-  PbdBody body;
-  body.points = mesh.points;
-  body.tets = mesh.tets;
-  body.density = 1000.0;
-  return body;
+  return test::pbdBoxBody(n, cell, origin);
 }
 
 Vec3 centerOfMass(const PbdSimulation& sim, const std::vector<double>& mass)

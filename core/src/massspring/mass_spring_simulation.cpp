@@ -88,6 +88,16 @@ void MassSpringSimulation::restoreState(const DynamicState& snapshot)
   State = snapshot;
 }
 
+double MassSpringSimulation::mechanicalEnergy() const
+{
+  double energy = elasticEnergy(Topo, Constants, State.positions);
+  for (std::size_t i = 0; i < State.velocities.size(); ++i)
+  {
+    energy += 0.5 * Masses.mass[i] * State.velocities[i].squaredNorm();
+  }
+  return energy;
+}
+
 std::vector<double> MassSpringSimulation::tetVolumeRatios() const
 {
   return softbody::tetVolumeRatios(Topo.tets, Constants.restVolume, State.positions);

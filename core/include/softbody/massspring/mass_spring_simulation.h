@@ -38,6 +38,8 @@ public:
   double totalMass() const override { return Masses.totalMass; }
   const Topology& topology() const { return Topo; }
   const ElementConstants& elementConstants() const { return Constants; }
+  /// Kinetic plus elastic energy of the current state [J] (for tests and the accuracy lab).
+  double mechanicalEnergy() const;
 
   /// Current over rest volume of each tet (in core's orientation: inverted input tets that
   /// were re-oriented report positive ratios).
