@@ -91,6 +91,15 @@ def visible_ports(source, view):
             if controller.GetVisibility(source.SMProxy, port, view.SMProxy)]
 
 
+def _end_gui_after(wait_s, shot=None):
+    """Starts the helper that ends the GUI (see finish_later)."""
+    helper = os.path.join(os.path.dirname(os.path.abspath(__file__)), "gui_finish.py")
+    log = open(ENV["SOFTBODY_GUI_RESULT"] + ".finish.log", "w")
+    # No empty argument: pvpython cannot decode one and crashes.
+    command = [ENV.get("SOFTBODY_PVPYTHON", "pvpython"), helper, str(os.getpid()), str(wait_s)]
+    subprocess.Popen(command + ([shot] if shot else []), stdout=log, stderr=subprocess.STDOUT)
+
+
 def finish_later(failures, messages, wait_s=4.0, shot=None):
     """Writes the verdict, then lets the GUI paint for `wait_s` s before it is ended.
 
@@ -107,17 +116,14 @@ def finish_later(failures, messages, wait_s=4.0, shot=None):
     with open(ENV["SOFTBODY_GUI_RESULT"], "w") as result:
         result.write(verdict)
     print(verdict, flush=True)
-    helper = os.path.join(os.path.dirname(os.path.abspath(__file__)), "gui_finish.py")
-    log = open(ENV["SOFTBODY_GUI_RESULT"] + ".finish.log", "w")
-    # No empty argument: pvpython cannot decode one and crashes.
-    command = [ENV.get("SOFTBODY_PVPYTHON", "pvpython"), helper, str(os.getpid()), str(wait_s)]
-    subprocess.Popen(command + ([shot] if shot else []), stdout=log, stderr=subprocess.STDOUT)
+    _end_gui_after(wait_s, shot)
 
 
 def fail_now(failures):
-    """Writes the verdict at once (an exception in the script) and ends ParaView."""
+    """Writes the verdict at once (an exception in the script) and has ParaView ended the same
+    way as after a verdict (no os._exit: the script returns, the helper ends the GUI)."""
     failures.append(traceback.format_exc())
     with open(ENV["SOFTBODY_GUI_RESULT"], "w") as result:
         result.write("FAIL\n" + "\n".join(failures) + "\n")
     print("FAIL\n" + "\n".join(failures), flush=True)
-    os._exit(1)
+    _end_gui_after(0.0)

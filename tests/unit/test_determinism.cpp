@@ -2,6 +2,7 @@
 // fixed summation order. Compared bit for bit, with a state hash as in Box2D's tests.
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
+#include "test_support.h"
 
 #include <tbb/global_control.h>
 
@@ -49,16 +50,6 @@ DynamicState runWithThreads(std::size_t threads, const SceneSettings& scene)
   return sim.state();
 }
 
-double maxDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
-{
-  double largest = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    largest = std::max(largest, (a[i] - b[i]).norm());
-  }
-  return largest;
-}
-
 } // namespace
 
 TEST(Determinism, OneAndTwoThreadsGiveBitIdenticalStates)
@@ -73,10 +64,10 @@ TEST(Determinism, OneAndTwoThreadsGiveBitIdenticalStates)
       // (the body lands at ~0.1 s; the limiter corrects points on impact).
       SceneSettings noFloor = busyScene(integrator);
       noFloor.floorEnabled = false;
-      EXPECT_GT(maxDistance(runWithThreads(2, noFloor).positions, two.positions), 1e-2);
+      EXPECT_GT(test::maxDistance(runWithThreads(2, noFloor).positions, two.positions), 1e-2);
       SceneSettings noLimit = busyScene(integrator);
       noLimit.strainLimit = 0.0;
-      EXPECT_GT(maxDistance(runWithThreads(2, noLimit).positions, two.positions), 1e-5);
+      EXPECT_GT(test::maxDistance(runWithThreads(2, noLimit).positions, two.positions), 1e-5);
     }
   }
 }

@@ -6,6 +6,7 @@
 #include "softbody/gpu/mass_spring_gpu_simulation.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -127,21 +128,6 @@ std::unique_ptr<gpu::MassSpringGpuSimulation> makeGpu(
     GTEST_SKIP() << "no EGL / OpenGL 4.3 context here";                                          \
   }
 
-double maxDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
-{
-  double largest = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    largest = std::max(largest, (a[i] - b[i]).norm());
-  }
-  return largest;
-}
-
-bool bitwiseEqual(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
-{
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
-}
-
 class GpuAgainstCpu : public ::testing::TestWithParam<Integrator>
 {
 };
@@ -169,11 +155,11 @@ TEST_P(GpuAgainstCpu, SameStatesAfterManyStepsWithEveryStage)
     cpuSimulation.advance(t);
     ASSERT_EQ(gpuSimulation->stepCount(), cpuSimulation.stepCount());
     ASSERT_EQ(gpuSimulation->time(), cpuSimulation.time());
-    const double dx = maxDifference(gpuSimulation->positions(), cpuSimulation.positions());
-    const double dv = maxDifference(gpuSimulation->velocities(), cpuSimulation.velocities());
+    const double dx = test::maxDistance(gpuSimulation->positions(), cpuSimulation.positions());
+    const double dv = test::maxDistance(gpuSimulation->velocities(), cpuSimulation.velocities());
     std::cout << integratorName(GetParam()) << " t = " << t << " s, " << cpuSimulation.stepCount()
               << " steps: max |dx| / size = " << dx / size << ", max |dv| = " << dv << " m/s"
-              << (bitwiseEqual(gpuSimulation->positions(), cpuSimulation.positions()) ? " (bitwise equal)" : "")
+              << (test::bitwiseEqual(gpuSimulation->positions(), cpuSimulation.positions()) ? " (bitwise equal)" : "")
               << "\n";
     // The first frame is free fall: smooth, so tight on every GPU.
     const Tolerance bound =
@@ -182,7 +168,7 @@ TEST_P(GpuAgainstCpu, SameStatesAfterManyStepsWithEveryStage)
     EXPECT_LE(dv, bound.velocity) << gpuSimulation->glRenderer();
   }
   // The body moved (the comparison is not between two resting bodies).
-  EXPECT_GT(maxDifference(cpuSimulation.positions(), cpuSimulation.restPositions()), 1e-3);
+  EXPECT_GT(test::maxDistance(cpuSimulation.positions(), cpuSimulation.restPositions()), 1e-3);
   // Every stage compared is active: the same run without it ends elsewhere, by far more than
   // the tolerance (a GPU bug in that stage would show).
   SceneSettings noLimit = scene;
@@ -195,10 +181,10 @@ TEST_P(GpuAgainstCpu, SameStatesAfterManyStepsWithEveryStage)
     stretched = std::max(stretched, maxStretchRatio(unlimited.topology(), unlimited.elementConstants(), unlimited.positions()));
   }
   EXPECT_GT(stretched, scene.strainLimit * 1.005) << "the limiter would not act";
-  EXPECT_GT(maxDifference(unlimited.positions(), cpuSimulation.positions()) / size, 1e-5);
+  EXPECT_GT(test::maxDistance(unlimited.positions(), cpuSimulation.positions()) / size, 1e-5);
   SceneSettings noFloor = scene;
   noFloor.floorEnabled = false;
-  EXPECT_GT(maxDifference(cpuPositions(body, noFloor, 0.06), cpuSimulation.positions()) / size, 1e-3);
+  EXPECT_GT(test::maxDistance(cpuPositions(body, noFloor, 0.06), cpuSimulation.positions()) / size, 1e-3);
   const std::vector<double> gpuRatios = gpuSimulation->tetVolumeRatios();
   const std::vector<double> cpuRatios = cpuSimulation.tetVolumeRatios();
   ASSERT_EQ(gpuRatios.size(), cpuRatios.size());
@@ -224,12 +210,12 @@ TEST(MassSpring, SameStatesAsTheCpuWhenHangingFromPinsWithTheLimiterActing)
     gpuSimulation->advance(endTime);
     cpuSimulation.advance(endTime);
     ASSERT_EQ(gpuSimulation->stepCount(), cpuSimulation.stepCount());
-    const double dx = maxDifference(gpuSimulation->positions(), cpuSimulation.positions());
+    const double dx = test::maxDistance(gpuSimulation->positions(), cpuSimulation.positions());
     std::cout << integratorName(integrator) << " hanging, " << cpuSimulation.stepCount()
               << " steps: max |dx| / size = " << dx / size << "\n";
     const Tolerance bound = afterThresholdStages(*gpuSimulation);
     EXPECT_LE(dx / size, bound.position) << gpuSimulation->glRenderer();
-    EXPECT_LE(maxDifference(gpuSimulation->velocities(), cpuSimulation.velocities()), bound.velocity)
+    EXPECT_LE(test::maxDistance(gpuSimulation->velocities(), cpuSimulation.velocities()), bound.velocity)
       << gpuSimulation->glRenderer();
     for (std::size_t i = 0; i < body.pinned.size(); ++i)
     {
@@ -243,17 +229,17 @@ TEST(MassSpring, SameStatesAsTheCpuWhenHangingFromPinsWithTheLimiterActing)
     // 0.4-0.5 mm, volume damping by 0.04-0.05 mm; without pins the body falls 49 mm).
     BodyDescription free = body;
     free.pinned.clear();
-    EXPECT_GT(maxDifference(cpuPositions(free, scene, endTime), cpuSimulation.positions()), 0.03);
+    EXPECT_GT(test::maxDistance(cpuPositions(free, scene, endTime), cpuSimulation.positions()), 0.03);
     SceneSettings noLimit = scene;
     noLimit.strainLimit = 0.0;
     MassSpringSimulation unlimited(body, noLimit);
     unlimited.advance(endTime);
     EXPECT_GT(maxStretchRatio(unlimited.topology(), unlimited.elementConstants(), unlimited.positions()),
       scene.strainLimit * 1.005);
-    EXPECT_GT(maxDifference(unlimited.positions(), cpuSimulation.positions()), 1e-4);
+    EXPECT_GT(test::maxDistance(unlimited.positions(), cpuSimulation.positions()), 1e-4);
     BodyDescription noVolumeDamping = body;
     noVolumeDamping.material.raw.volumeDamping = 0.0;
-    EXPECT_GT(maxDifference(cpuPositions(noVolumeDamping, scene, endTime), cpuSimulation.positions()), 1e-5);
+    EXPECT_GT(test::maxDistance(cpuPositions(noVolumeDamping, scene, endTime), cpuSimulation.positions()), 1e-5);
   }
 }
 
@@ -279,7 +265,7 @@ TEST(MassSpring, VerletAcrossStepSizeChangesAsOnTheCpu)
       ASSERT_LT((gpuSimulation->positions()[i] - exact).norm(), 1e-12)
         << "t = " << t << ", CPU off by " << (cpuSimulation.positions()[i] - exact).norm();
     }
-    EXPECT_LE(maxDifference(gpuSimulation->positions(), cpuSimulation.positions()), 1e-12);
+    EXPECT_LE(test::maxDistance(gpuSimulation->positions(), cpuSimulation.positions()), 1e-12);
   }
   EXPECT_EQ(gpuSimulation->stepCount(), 20u + 24u + 3u + 20u);
 }
@@ -301,8 +287,8 @@ TEST(MassSpring, TwoRunsAreBitwiseEqual)
   MAKE_GPU_OR_SKIP(second, body, scene);
   first->advance(0.05);
   second->advance(0.05);
-  EXPECT_TRUE(bitwiseEqual(first->positions(), second->positions()));
-  EXPECT_TRUE(bitwiseEqual(first->velocities(), second->velocities()));
+  EXPECT_TRUE(test::bitwiseEqual(first->positions(), second->positions()));
+  EXPECT_TRUE(test::bitwiseEqual(first->velocities(), second->velocities()));
 }
 
 TEST(MassSpring, DownloadingBetweenFramesChangesNothing)
@@ -318,7 +304,7 @@ TEST(MassSpring, DownloadingBetweenFramesChangesNothing)
     straight->advance(0.01 * frame);
   }
   EXPECT_EQ(framed->stepCount(), straight->stepCount());
-  EXPECT_TRUE(bitwiseEqual(framed->positions(), straight->positions()));
+  EXPECT_TRUE(test::bitwiseEqual(framed->positions(), straight->positions()));
 }
 
 TEST(MassSpring, ResumingFromASnapshotReproducesTheRunExactly)
@@ -333,11 +319,11 @@ TEST(MassSpring, ResumingFromASnapshotReproducesTheRunExactly)
 
   simulation->restoreState(snapshot);
   EXPECT_EQ(simulation->time(), snapshot.time);
-  EXPECT_TRUE(bitwiseEqual(simulation->positions(), snapshot.positions));
+  EXPECT_TRUE(test::bitwiseEqual(simulation->positions(), snapshot.positions));
   simulation->advance(0.04);
   EXPECT_EQ(simulation->stepCount(), later.stepCount);
-  EXPECT_TRUE(bitwiseEqual(simulation->positions(), later.positions));
-  EXPECT_TRUE(bitwiseEqual(simulation->velocities(), later.velocities));
+  EXPECT_TRUE(test::bitwiseEqual(simulation->positions(), later.positions));
+  EXPECT_TRUE(test::bitwiseEqual(simulation->velocities(), later.velocities));
 
   DynamicState wrong = snapshot;
   wrong.positions.pop_back();
@@ -361,7 +347,7 @@ TEST(MassSpring, PinnedPointsNeverMove)
     }
   }
   EXPECT_GT(pinned, 0u);
-  EXPECT_GT(maxDifference(simulation->positions(), simulation->restPositions()), 1e-4); // it sags
+  EXPECT_GT(test::maxDistance(simulation->positions(), simulation->restPositions()), 1e-4); // it sags
 }
 
 TEST(MassSpring, PlanNamesTheSameStagesAsTheCpu)

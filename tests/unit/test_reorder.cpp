@@ -63,21 +63,6 @@ std::int32_t bandwidth(const TetMesh& mesh, const Order& slot)
   return widest;
 }
 
-double largestDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
-{
-  double largest = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    largest = std::max(largest, (a[i] - b[i]).norm());
-  }
-  return largest;
-}
-
-bool bitwiseEqual(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
-{
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
-}
-
 BodyDescription bodyOf(const TetMesh& mesh)
 {
   BodyDescription body;
@@ -182,7 +167,7 @@ TEST(Reorder, MassSpringOutputsInInputOrderEqualTheRunAsGiven)
   {
     std::unique_ptr<Simulation> reordered = makeMassSpringSimulation(body, scene, ordering);
     ASSERT_NE(dynamic_cast<ReorderedSimulation*>(reordered.get()), nullptr);
-    EXPECT_TRUE(bitwiseEqual(reordered->restPositions(), mesh.points));
+    EXPECT_TRUE(test::bitwiseEqual(reordered->restPositions(), mesh.points));
     // The stability bound sums over each vertex's elements in another order: rounding.
     EXPECT_NEAR(reordered->stepSize(), given->stepSize(), 1e-14 * given->stepSize());
     EXPECT_NEAR(reordered->totalMass(), given->totalMass(), 1e-15 * given->totalMass());
@@ -194,9 +179,9 @@ TEST(Reorder, MassSpringOutputsInInputOrderEqualTheRunAsGiven)
     reordered->advance(end);
     EXPECT_EQ(reordered->stepCount(), given->stepCount());
     // Only the summation order of each vertex's springs and tets differs: rounding.
-    EXPECT_LT(largestDifference(reordered->positions(), given->positions()), 1e-12);
-    EXPECT_LT(largestDifference(reordered->velocities(), given->velocities()), 1e-9);
-    EXPECT_GT(largestDifference(given->positions(), mesh.points), 1e-5); // it did move
+    EXPECT_LT(test::maxDistance(reordered->positions(), given->positions()), 1e-12);
+    EXPECT_LT(test::maxDistance(reordered->velocities(), given->velocities()), 1e-9);
+    EXPECT_GT(test::maxDistance(given->positions(), mesh.points), 1e-5); // it did move
     for (std::size_t i = 0; i < mesh.points.size(); ++i)
     {
       if (body.pinned[i])
@@ -223,16 +208,16 @@ TEST(Reorder, MassSpringSnapshotsInInputOrderResumeExactly)
   sim->advance(50 * h);
   const DynamicState straight = sim->state();
   sim->restoreState(snapshot);
-  EXPECT_TRUE(bitwiseEqual(sim->positions(), snapshot.positions));
+  EXPECT_TRUE(test::bitwiseEqual(sim->positions(), snapshot.positions));
   sim->advance(50 * h);
-  EXPECT_TRUE(bitwiseEqual(sim->positions(), straight.positions));
-  EXPECT_TRUE(bitwiseEqual(sim->velocities(), straight.velocities));
+  EXPECT_TRUE(test::bitwiseEqual(sim->positions(), straight.positions));
+  EXPECT_TRUE(test::bitwiseEqual(sim->velocities(), straight.velocities));
 
   // A snapshot restored into a second stepper of the same body continues the same way.
   std::unique_ptr<Simulation> other = makeMassSpringSimulation(body, sceneWithFloor());
   other->restoreState(snapshot);
   other->advance(50 * h);
-  EXPECT_TRUE(bitwiseEqual(other->positions(), straight.positions));
+  EXPECT_TRUE(test::bitwiseEqual(other->positions(), straight.positions));
 }
 
 TEST(Reorder, MassSpringReorderedRunIsTheSameAtAnyThreadCount)
@@ -246,8 +231,8 @@ TEST(Reorder, MassSpringReorderedRunIsTheSameAtAnyThreadCount)
     sim->advance(40 * sim->stepSize());
     results.push_back(sim->positions());
   }
-  EXPECT_TRUE(bitwiseEqual(results[0], results[1]));
-  EXPECT_TRUE(bitwiseEqual(results[0], results[2]));
+  EXPECT_TRUE(test::bitwiseEqual(results[0], results[1]));
+  EXPECT_TRUE(test::bitwiseEqual(results[0], results[2]));
 }
 
 TEST(Reorder, InvalidBodiesAreRefusedWithTheInputsOwnMessage)
@@ -315,15 +300,15 @@ TEST(Reorder, PbdLinkBodiesAreBitwiseEqualToTheRunAsGiven)
     reordered->advance(0.5);
     if (solver == PbdSolver::GaussSeidel)
     {
-      EXPECT_TRUE(bitwiseEqual(given->positions(), reordered->positions()));
-      EXPECT_TRUE(bitwiseEqual(given->velocities(), reordered->velocities()));
+      EXPECT_TRUE(test::bitwiseEqual(given->positions(), reordered->positions()));
+      EXPECT_TRUE(test::bitwiseEqual(given->velocities(), reordered->velocities()));
     }
     else
     {
       // The coloring follows the constraint graph's numbering: another order, same physics.
-      EXPECT_LT(largestDifference(given->positions(), reordered->positions()), 1e-3);
+      EXPECT_LT(test::maxDistance(given->positions(), reordered->positions()), 1e-3);
     }
-    EXPECT_TRUE(bitwiseEqual(reordered->restPositions(), body.points));
+    EXPECT_TRUE(test::bitwiseEqual(reordered->restPositions(), body.points));
     EXPECT_EQ(reordered->inverseMasses(), given->inverseMasses());
   }
 }
@@ -352,7 +337,7 @@ TEST(Reorder, PbdTetBodiesInInputOrderMatchTheRunAsGiven)
     // (run near convergence here; measured 2.6e-5 m for Gauss-Seidel, 5.8e-5 m for the colored
     // solver, on a 5 cm box); Jacobi only sums in another order (1.4e-16 m).
     const double tolerance = solver == PbdSolver::Jacobi ? 1e-12 : 1e-4;
-    EXPECT_LT(largestDifference(given->positions(), reordered->positions()), tolerance)
+    EXPECT_LT(test::maxDistance(given->positions(), reordered->positions()), tolerance)
       << static_cast<int>(solver);
     const std::vector<double> a = given->tetVolumeRatios(), b = reordered->tetVolumeRatios();
     ASSERT_EQ(a.size(), b.size());
@@ -386,7 +371,7 @@ TEST(Reorder, PbdReorderedRunIsTheSameAtAnyThreadCount)
       sim->advance(0.1);
       results.push_back(sim->positions());
     }
-    EXPECT_TRUE(bitwiseEqual(results[0], results[1])) << static_cast<int>(solver);
-    EXPECT_TRUE(bitwiseEqual(results[0], results[2])) << static_cast<int>(solver);
+    EXPECT_TRUE(test::bitwiseEqual(results[0], results[1])) << static_cast<int>(solver);
+    EXPECT_TRUE(test::bitwiseEqual(results[0], results[2])) << static_cast<int>(solver);
   }
 }

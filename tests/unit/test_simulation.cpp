@@ -38,6 +38,22 @@ Vec3 angularMomentum(const MassSpringSimulation& sim)
   return l;
 }
 
+/// The GPU tests' hanging scene body: 6 x 5 x 4 cells of 2 cm, top face pinned, raw constants
+/// with volume damping (k_D, k_D,d, k_V, k_V,d, total mass).
+BodyDescription hangingBox()
+{
+  BodyDescription body;
+  body.mesh = makeTetBox(6, 5, 4, 0.02, Vec3(0, 0, 0.01));
+  body.pinned.assign(body.mesh.points.size(), 0);
+  for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
+  {
+    body.pinned[i] = body.mesh.points[i].z() > 0.0899;
+  }
+  body.material.mode = MaterialMode::Raw;
+  body.material.raw = { 0.2, 2e-5, 0.4, 8e-5, 1.0 };
+  return body;
+}
+
 } // namespace
 
 TEST(Simulation, TotalMassIsDensityTimesVolume)
@@ -127,16 +143,6 @@ TEST(Simulation, PinnedPointsNeverMoveAndTheBodyHangs)
 
 namespace
 {
-double maxDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
-{
-  double largest = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    largest = std::max(largest, (a[i] - b[i]).norm());
-  }
-  return largest;
-}
-
 std::vector<Vec3> positionsAt(const BodyDescription& body, const SceneSettings& scene, double t)
 {
   MassSpringSimulation sim(body, scene);
@@ -175,10 +181,10 @@ TEST(Simulation, ResumingFromASnapshotReproducesTheRunExactly)
   const std::vector<Vec3> reference = positionsAt(boxBody(), scene, 0.4);
   SceneSettings noFloor = scene;
   noFloor.floorEnabled = false;
-  EXPECT_GT(maxDistance(positionsAt(boxBody(), noFloor, 0.4), reference), 0.1);
+  EXPECT_GT(test::maxDistance(positionsAt(boxBody(), noFloor, 0.4), reference), 0.1);
   SceneSettings noLimit = scene;
   noLimit.strainLimit = 0.0;
-  EXPECT_GT(maxDistance(positionsAt(boxBody(), noLimit, 0.4), reference), 1e-4);
+  EXPECT_GT(test::maxDistance(positionsAt(boxBody(), noLimit, 0.4), reference), 1e-4);
   expectExactResume(boxBody(), scene);
 }
 
@@ -187,15 +193,7 @@ TEST(Simulation, ResumingAHangingBodyWithEveryStageReproducesTheRunExactly)
   // The GPU tests' hanging scene: pinned top face, strain limit 1.01, raw constants with volume
   // damping. Each acts (measured: the limiter moves points by 0.4-0.5 mm, volume damping by
   // 0.04-0.05 mm, the pins hold the body up by 49 mm), then resume.
-  BodyDescription body;
-  body.mesh = makeTetBox(6, 5, 4, 0.02, Vec3(0, 0, 0.01));
-  body.pinned.assign(body.mesh.points.size(), 0);
-  for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
-  {
-    body.pinned[i] = body.mesh.points[i].z() > 0.0899;
-  }
-  body.material.mode = MaterialMode::Raw;
-  body.material.raw = { 0.2, 2e-5, 0.4, 8e-5, 1.0 };
+  const BodyDescription body = hangingBox();
   SceneSettings scene;
   scene.strainLimit = 1.01;
   for (Integrator integrator : { Integrator::Verlet, Integrator::EulerCromer })
@@ -204,13 +202,13 @@ TEST(Simulation, ResumingAHangingBodyWithEveryStageReproducesTheRunExactly)
     const std::vector<Vec3> reference = positionsAt(body, scene, 0.1);
     BodyDescription free = body;
     free.pinned.clear();
-    EXPECT_GT(maxDistance(positionsAt(free, scene, 0.1), reference), 0.03);
+    EXPECT_GT(test::maxDistance(positionsAt(free, scene, 0.1), reference), 0.03);
     SceneSettings noLimit = scene;
     noLimit.strainLimit = 0.0;
-    EXPECT_GT(maxDistance(positionsAt(body, noLimit, 0.1), reference), 1e-4);
+    EXPECT_GT(test::maxDistance(positionsAt(body, noLimit, 0.1), reference), 1e-4);
     BodyDescription noVolumeDamping = body;
     noVolumeDamping.material.raw.volumeDamping = 0.0;
-    EXPECT_GT(maxDistance(positionsAt(noVolumeDamping, scene, 0.1), reference), 1e-5);
+    EXPECT_GT(test::maxDistance(positionsAt(noVolumeDamping, scene, 0.1), reference), 1e-5);
     expectExactResume(body, scene, 0.05, 0.08, 0.1);
   }
 }
@@ -287,15 +285,7 @@ TEST(Simulation, VerletVelocityStaysThePositionStepWhenTheLimiterMovesPoints)
   // Leapfrog stores v_{n+1/2} = (x_{n+1} - x_n) / h. The strain limiter moves points after the
   // drift, so it must move their velocities by the same amount over h, or Verlet's velocity
   // stops being its position step (issue 17: switched off, a 0.12 m body ends 2.2 mm away).
-  BodyDescription body;
-  body.mesh = makeTetBox(6, 5, 4, 0.02, Vec3(0, 0, 0.01));
-  body.pinned.assign(body.mesh.points.size(), 0);
-  for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
-  {
-    body.pinned[i] = body.mesh.points[i].z() > 0.0899;
-  }
-  body.material.mode = MaterialMode::Raw;
-  body.material.raw = { 0.2, 2e-5, 0.4, 8e-5, 1.0 };
+  const BodyDescription body = hangingBox();
   SceneSettings scene;
   scene.integrator = Integrator::Verlet;
   scene.strainLimit = 1.01;

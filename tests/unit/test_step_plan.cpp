@@ -5,6 +5,7 @@
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/pbd/pbd_simulation.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -38,15 +39,6 @@ bool planHas(const Simulation& simulation, Stage stage)
   return std::find(plan.begin(), plan.end(), stage) != plan.end();
 }
 
-double maxDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
-{
-  double d = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    d = std::max(d, (a[i] - b[i]).norm());
-  }
-  return d;
-}
 } // namespace
 
 TEST(StepPlan, KeepsOrderTimesAndRefusesAStageTwice)
@@ -204,7 +196,7 @@ TEST(PbdPlan, ResidualOnlyForTheFrameLastStepOrATolerance)
 
   // The skipped evaluations change nothing: both runs end in the same state, bit for bit.
   silent.advance(0.2);
-  EXPECT_EQ(maxDifference(silent.positions(), reporting.positions()), 0.0);
+  EXPECT_EQ(test::maxDistance(silent.positions(), reporting.positions()), 0.0);
 
   // A tolerance needs the residual after every iteration of every step.
   settings.reportConvergence = false;

@@ -3,6 +3,8 @@
 
 #include "softbody/common/geometry.h"
 
+#include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <random>
 #include <vector>
@@ -31,6 +33,23 @@ inline std::filesystem::path sharedData()
 #else
   return {};
 #endif
+}
+
+/// Largest |a_i - b_i| [m]: how far two states of the same body are apart.
+inline double maxDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
+{
+  double largest = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+  {
+    largest = std::max(largest, (a[i] - b[i]).norm());
+  }
+  return largest;
+}
+
+/// Same size and the same bytes.
+inline bool bitwiseEqual(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
+{
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
 }
 
 inline std::vector<Vec3> randomVectors(std::size_t count, double amplitude, unsigned seed = 11)

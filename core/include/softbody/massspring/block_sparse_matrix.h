@@ -4,9 +4,9 @@
 // is built once per body and only the block values change from one Newton iteration to the
 // next.
 //
-// Why not Eigen::SparseMatrix: the scalar CSR stores 9 column indices per block (about twice
-// the bytes per product on this memory-bound loop) and its product runs on one thread without
-// OpenMP; bench_implicit measures both. Rows are written by one task each and summed in a
+// Why not Eigen::SparseMatrix: the scalar CSR stores 9 column indices per block (more bytes
+// per product on this memory-bound loop) and its product runs on one thread without OpenMP
+// (a design choice, not benchmarked). Rows are written by one task each and summed in a
 // fixed order, so the product is the same for any thread count.
 #pragma once
 
