@@ -19,6 +19,10 @@ const char* stageName(Stage stage)
       return "strain limit";
     case Stage::Floor:
       return "floor";
+    case Stage::CollisionDetect:
+      return "collision detection";
+    case Stage::Contacts:
+      return "contacts";
     case Stage::Predict:
       return "predict";
     case Stage::SolveLinks:
@@ -29,6 +33,8 @@ const char* stageName(Stage stage)
       return "solve attachments";
     case Stage::SolveFloor:
       return "solve floor";
+    case Stage::SolveContacts:
+      return "solve contacts";
     case Stage::Residual:
       return "residual";
     case Stage::UpdateVelocities:

@@ -2,6 +2,7 @@
 // the VTK filter, its frame cache and the benchmarks talk to this interface only.
 #pragma once
 
+#include "softbody/collision/obstacle.h"
 #include "softbody/common/geometry.h"
 #include "softbody/common/state.h"
 #include "softbody/common/step_plan.h"
@@ -49,6 +50,14 @@ public:
 
   /// Current over rest volume of each tet, in input cell order; empty for bodies without tets.
   virtual std::vector<double> tetVolumeRatios() const = 0;
+
+  /// Whether setObstacles() is supported (the GPU stepper does not: the filter falls back to
+  /// the CPU with a warning).
+  virtual bool supportsObstacles() const { return false; }
+  /// Replaces the obstacle surfaces the body collides with; their `vertices` hold at
+  /// `endTime`, the end of the coming advance() (obstacle.h). Throws InvalidInputError for bad
+  /// surfaces, or when !supportsObstacles().
+  virtual void setObstacles(std::vector<ObstacleSurface> obstacles, double endTime);
 
   virtual double stepSize() const = 0;            ///< [s]
   virtual double estimatedStableStep() const = 0; ///< [s]; 0 if none is stable or not relevant

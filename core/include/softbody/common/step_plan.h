@@ -23,12 +23,15 @@ enum class Stage
                ///< Dynamics, with its factorization when the step size changes)
   StrainLimit, ///< Provot's strain limiting after the step
   Floor,       ///< floor contact after the step
+  CollisionDetect, ///< every method: broad + narrow phase against floor, obstacles, bodies, self
+  Contacts,        ///< mass-spring: contact projection and velocity response after the step
   // PBD / XPBD
   Predict,          ///< gravity and damping into predicted positions
   SolveLinks,       ///< distance constraints, every iteration
   SolveVolumes,     ///< tet volume constraints, every iteration
   SolveAttachments, ///< soft pins, every iteration
   SolveFloor,       ///< floor (inequality) constraints, every iteration
+  SolveContacts,    ///< detected contacts as inequality constraints, every iteration
   Residual,         ///< constraint residual after each iteration (tolerance or convergence output)
   UpdateVelocities, ///< v = (p - x) / h, x = p
   ContactResponse,  ///< floor friction and restitution on the velocities

@@ -2,6 +2,7 @@
 // settings (integrator, step, gravity, floor, strain limit). Immutable once the stepper is made.
 #pragma once
 
+#include "softbody/collision/collision_settings.h"
 #include "softbody/common/floor_plane.h"
 #include "softbody/massspring/explicit_integrators.h"
 #include "softbody/material/material.h"
@@ -43,6 +44,8 @@ struct SceneSettings
   InvertedTetPolicy invertedTets = InvertedTetPolicy::Reorient;
   /// A state is declared exploded when a spring grows past this factor of its rest length.
   double divergenceStretch = 100.0;
+  /// Floor, obstacles, bodies, self: what is detected and how contacts respond.
+  CollisionSettings collisions;
   ImplicitSettings implicit;
   bool operator==(const SceneSettings&) const = default;
 };

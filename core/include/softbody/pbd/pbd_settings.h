@@ -3,6 +3,7 @@
 // once the simulation is made.
 #pragma once
 
+#include "softbody/collision/collision_settings.h"
 #include "softbody/common/floor_plane.h"
 #include "softbody/common/geometry.h"
 #include "softbody/mesh/tet_mesh.h" // InvertedTetPolicy
@@ -64,6 +65,8 @@ struct PbdSettings
   double friction = 0.0;       ///< Coulomb coefficient at the floor
   double restitution = 0.0;    ///< in [0, 1]: the normal speed kept after a bounce
 
+  /// Floor, obstacles, bodies, self: what is detected and how contacts respond.
+  CollisionSettings collisions;
   ConstraintMaterial links;       ///< distance: compliance in m/N
   ConstraintMaterial volumes;     ///< tet volume (C = V - V0 in m^3): compliance in m^3/Pa
   ConstraintMaterial attachments; ///< soft pins: compliance in m/N

@@ -1,0 +1,83 @@
+// Contact detection for one simulation: the floor, the obstacle surfaces, the bodies against
+// each other and each body against itself, through the chosen broad phase and an exact narrow
+// phase (closest feature of a triangle, sphere against sphere). VTK-free; parallel and
+// deterministic (the contact set is sorted, so it is the same at any thread count and for
+// every broad phase).
+#pragma once
+
+#include "softbody/collision/collision_settings.h"
+#include "softbody/collision/contact.h"
+#include "softbody/collision/obstacle.h"
+#include "softbody/common/floor_plane.h"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace softbody
+{
+
+/// The colliding geometry of the simulated points, fixed at set-up (in the stepper's point
+/// numbering).
+struct CollisionGeometry
+{
+  std::vector<Vec3> rest;               ///< rest positions (the self-collision rest filter)
+  std::vector<std::int32_t> bodyOf;     ///< connected body of each point
+  /// Per point: > 0 for particles collided as spheres (voxelized / particle bodies), 0 for
+  /// vertices of tet bodies and cloth, which collide through surfaceTriangles.
+  std::vector<double> radius;
+  /// Outward-oriented boundary triangles of tet bodies (faces used by one tet) and the
+  /// triangles of cloth; empty for pure particle bodies.
+  std::vector<std::array<std::int32_t, 3>> surfaceTriangles;
+  /// Points that can touch anything: surface vertices and particles (pinned points included;
+  /// the response leaves points of inverse mass 0 where they are).
+  std::vector<std::int32_t> collidingPoints;
+};
+
+/// The tet bodies' boundary: faces used by exactly one tet, oriented outward.
+std::vector<std::array<std::int32_t, 3>> boundaryTriangles(const std::vector<Tet>& tets);
+
+/// Counts of the last detect() call, for the plan's report and the benchmarks.
+struct DetectionStats
+{
+  std::size_t candidatePairs = 0; ///< broad-phase pairs examined by the narrow phase
+  std::size_t contacts = 0;
+  BroadPhase broadPhase = BroadPhase::BruteForce; ///< the kind used (Automatic resolved)
+};
+
+class CollisionDetector
+{
+public:
+  /// Throws InvalidInputError (quoting the value) for a negative margin, friction or a
+  /// restitution outside [0, 1].
+  CollisionDetector(CollisionGeometry geometry, const CollisionSettings& settings,
+    bool floorEnabled, const FloorPlane& floor);
+
+  /// Replaces the obstacles (validated: finite vertices, indices in range, velocities empty or
+  /// one per vertex; InvalidInputError otherwise). `endTime` is when `vertices` hold.
+  void setObstacles(std::vector<ObstacleSurface> obstacles, double endTime);
+  const std::vector<ObstacleSurface>& obstacles() const { return Obstacles; }
+
+  /// The contacts of points whose motion from `start` to `predicted` (one substep, at time
+  /// `time` to `time + h`) comes within the margin of something: the query is widened by each
+  /// point's displacement, so no contact is missed inside a step (no tunnelling as long as the
+  /// solver keeps the points on the detected side). Output sorted (see ContactSet).
+  void detect(const std::vector<Vec3>& start, const std::vector<Vec3>& predicted, double time,
+    double h, ContactSet& out);
+
+  double margin() const { return Margin; } ///< resolved (automatic replaced) [m]
+  const DetectionStats& stats() const { return Stats; }
+  const CollisionSettings& settings() const { return Settings; }
+
+private:
+  CollisionGeometry Geometry;
+  CollisionSettings Settings;
+  bool FloorEnabled = false;
+  FloorPlane Floor;
+  std::vector<ObstacleSurface> Obstacles;
+  double ObstacleEndTime = 0.0;
+  double Margin = 0.0;
+  DetectionStats Stats;
+};
+
+} // namespace softbody
