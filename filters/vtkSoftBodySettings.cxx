@@ -103,9 +103,12 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
   {
     s.floor.origin = ToVec3(p.FloorOrigin);
     s.floor.normal = ToVec3(p.FloorNormal);
-    s.friction = p.Friction;
-    s.restitution = p.Restitution;
   }
+  // Friction and restitution act at every contact (floor, obstacles, bodies). One Friction
+  // property for now: the static and the dynamic coefficient alike.
+  s.collisions.staticFriction = p.Friction;
+  s.collisions.dynamicFriction = p.Friction;
+  s.collisions.restitution = p.Restitution;
   // Each formulation reads only its own constants: PBD stiffnesses, XPBD compliances (or
   // Young's modulus), so the other's properties do not invalidate the cache.
   if (xpbd)

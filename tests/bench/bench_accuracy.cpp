@@ -647,7 +647,7 @@ Scene restitutionScene(bool cube)
     s.pbdBody.pointMass.assign(9, 0.01);
   }
   s.pbdSettings = pbdSettingsOf(s.body, s.scene, true);
-  s.pbdSettings.restitution = e;
+  s.pbdSettings.collisions.restitution = e;
   // The apex of the lowest point after the first contact, watched at every 1/480 s.
   auto apex = std::make_shared<double>(0.0);
   auto landed = std::make_shared<bool>(false);
@@ -695,7 +695,8 @@ Scene inclineScene(double thetaDegrees, double mu, bool sticks)
   s.scene.floor.normal = R * Vec3(0, 0, 1);
   s.pbdBody = pbdBodyOf(s.body);
   s.pbdSettings = pbdSettingsOf(s.body, s.scene, true);
-  s.pbdSettings.friction = mu;
+  s.pbdSettings.collisions.staticFriction = mu;
+  s.pbdSettings.collisions.dynamicFriction = mu;
   const Vec3 down = R * Vec3(1, 0, 0);
   const double T = s.endTime;
   const double a = kG * (sn - mu * c);

@@ -206,8 +206,9 @@ void pbd(FuzzedDataProvider& in, const Body& b)
   s.floor.origin = anyVec(in, { 0.0, 0.0, 0.0 });
   s.floor.normal = anyVec(in, { 0.0, 0.0, 1.0 });
   s.particleRadius = in.ConsumeBool() ? 0.0 : anyValue(in, 0.01);
-  s.friction = in.ConsumeBool() ? 0.0 : anyValue(in, 0.5);
-  s.restitution = in.ConsumeBool() ? 0.0 : anyValue(in, 0.5);
+  s.collisions.staticFriction = in.ConsumeBool() ? 0.0 : anyValue(in, 0.5);
+  s.collisions.dynamicFriction = in.ConsumeBool() ? 0.0 : anyValue(in, 0.5);
+  s.collisions.restitution = in.ConsumeBool() ? 0.0 : anyValue(in, 0.5);
   s.links = { anyValue(in, 1.0), anyValue(in, 1e-4) };
   s.volumes = { anyValue(in, 1.0), anyValue(in, 1e-10) };
   s.attachments = { anyValue(in, 1.0), in.ConsumeBool() ? 0.0 : anyValue(in, 1e-6) };

@@ -141,20 +141,33 @@ TEST(PbdPlan, FloorContactsAndLinkUpdatesOnlyWhenNeeded)
 {
   PbdSettings settings;
   settings.floorEnabled = false;
-  PbdSimulation air(pbdBox(), settings);
-  EXPECT_FALSE(planHas(air, Stage::SolveFloor));
+  PbdSimulation air(pbdBox(), settings); // one body, nothing to collide with
+  EXPECT_FALSE(planHas(air, Stage::CollisionDetect));
+  EXPECT_FALSE(planHas(air, Stage::SolveContacts));
   EXPECT_FALSE(planHas(air, Stage::ContactResponse));
   EXPECT_FALSE(planHas(air, Stage::UpdateLinks));
+  // An obstacle arriving later puts the collision stages in; removing it takes them out.
+  air.setObstacles({ ObstacleSurface{ { Vec3(-1, -1, -1), Vec3(1, -1, -1), Vec3(0, 1, -1) }, {}, { { 0, 1, 2 } } } }, 0.0);
+  EXPECT_TRUE(planHas(air, Stage::CollisionDetect));
+  EXPECT_TRUE(planHas(air, Stage::SolveContacts));
+  air.setObstacles({}, 0.0);
+  EXPECT_FALSE(planHas(air, Stage::CollisionDetect));
 
   settings.floorEnabled = true;
-  settings.friction = 0.0;
-  settings.restitution = 0.0;
-  PbdSimulation slippery(pbdBox(), settings);
-  EXPECT_TRUE(planHas(slippery, Stage::SolveFloor));
-  EXPECT_FALSE(planHas(slippery, Stage::ContactResponse));
-  settings.friction = 0.5;
+  settings.collisions.staticFriction = settings.collisions.dynamicFriction = 0.5;
+  settings.collisions.restitution = 0.0;
   PbdSimulation rough(pbdBox(), settings);
-  EXPECT_TRUE(planHas(rough, Stage::ContactResponse));
+  EXPECT_TRUE(planHas(rough, Stage::CollisionDetect));
+  EXPECT_TRUE(planHas(rough, Stage::SolveContacts));
+  EXPECT_FALSE(planHas(rough, Stage::ContactResponse)); // friction acts in the solve
+  settings.collisions.restitution = 0.5;
+  PbdSimulation bouncy(pbdBox(), settings);
+  EXPECT_TRUE(planHas(bouncy, Stage::ContactResponse));
+  settings.collisions.mode = CollisionMode::Off; // not even the floor
+  PbdSimulation ghost(pbdBox(), settings);
+  EXPECT_FALSE(planHas(ghost, Stage::CollisionDetect));
+  EXPECT_FALSE(planHas(ghost, Stage::ContactResponse));
+  settings.collisions.mode = CollisionMode::Obstacles;
 
   // A yield without creep never changes a rest length: no link pass, no link state.
   settings.plasticYield = 0.1;

@@ -31,8 +31,6 @@ const char* stageName(Stage stage)
       return "solve volumes";
     case Stage::SolveAttachments:
       return "solve attachments";
-    case Stage::SolveFloor:
-      return "solve floor";
     case Stage::SolveContacts:
       return "solve contacts";
     case Stage::Residual:
@@ -40,7 +38,7 @@ const char* stageName(Stage stage)
     case Stage::UpdateVelocities:
       return "velocity update";
     case Stage::ContactResponse:
-      return "contact friction + restitution";
+      return "contact restitution";
     case Stage::UpdateLinks:
       return "links: plasticity + breaking";
     case Stage::DivergenceCheck:

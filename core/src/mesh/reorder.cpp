@@ -354,6 +354,7 @@ const DynamicState& ReorderedSimulation::state() const
     Out.linkRestLengths = in.linkRestLengths;
     Out.linkBroken = in.linkBroken;
     Out.impactSpeeds = toInputOrder(in.impactSpeeds, Map.vertexOrder);
+    Out.impactNormals = toInputOrder(in.impactNormals, Map.vertexOrder);
     Stale = false;
   }
   return Out;
@@ -370,6 +371,7 @@ void ReorderedSimulation::restoreState(const DynamicState& snapshot)
   stored.positions = toStorageOrder(snapshot.positions, Map.vertexOrder);
   stored.velocities = toStorageOrder(snapshot.velocities, Map.vertexOrder);
   stored.impactSpeeds = toStorageOrder(snapshot.impactSpeeds, Map.vertexOrder);
+  stored.impactNormals = toStorageOrder(snapshot.impactNormals, Map.vertexOrder);
   Inner->restoreState(stored);
   Out = snapshot;
   Stale = false;

@@ -61,6 +61,16 @@ PbdBody makeCloth(const ClothSpec& spec)
       }
     }
   }
+  // Two triangles per cell, counter-clockwise seen from the side point1 x point2 points to:
+  // what the cloth collides through (both sides: PbdBody::surfaceTriangles).
+  for (int j = 0; j + 1 < ny; ++j)
+  {
+    for (int i = 0; i + 1 < nx; ++i)
+    {
+      body.surfaceTriangles.push_back({ index(i, j), index(i + 1, j), index(i + 1, j + 1) });
+      body.surfaceTriangles.push_back({ index(i, j), index(i + 1, j + 1), index(i, j + 1) });
+    }
+  }
   body.pointMass.assign(body.points.size(), spec.totalMass / static_cast<double>(body.points.size()));
   body.pinned.assign(body.points.size(), 0);
   if (spec.pins != ClothPins::None)

@@ -43,13 +43,17 @@ const char* pbdSolverName(PbdSolver solver, double relaxation)
 }
 
 StepPlan planPbd(const PbdSettings& settings, const DistanceBatch& links,
-  const VolumeBatch& volumes, const AttachmentBatch& attachments)
+  const VolumeBatch& volumes, const AttachmentBatch& attachments, bool collisions)
 {
   const std::string solver = std::string(settings.formulation == PbdFormulation::Xpbd ? "XPBD " : "PBD ") +
     pbdSolverName(settings.solver, settings.relaxation);
   StepPlan plan;
   plan.add(Stage::Predict,
     settings.prediction == PbdPrediction::Verlet ? "Verlet" : "symplectic Euler");
+  if (collisions)
+  {
+    plan.add(Stage::CollisionDetect, "once per substep");
+  }
   if (links.size() > 0 && canMove(settings, settings.links, links.compliance))
   {
     plan.add(Stage::SolveLinks, solver);
@@ -62,9 +66,12 @@ StepPlan planPbd(const PbdSettings& settings, const DistanceBatch& links,
   {
     plan.add(Stage::SolveAttachments, solver);
   }
-  if (settings.floorEnabled)
+  if (collisions)
   {
-    plan.add(Stage::SolveFloor);
+    // Friction acts in the solve (position level); only restitution needs the velocity pass.
+    const CollisionSettings& c = settings.collisions;
+    plan.add(Stage::SolveContacts,
+      c.staticFriction > 0.0 || c.dynamicFriction > 0.0 ? "with friction" : "frictionless");
   }
   if (settings.residualTolerance > 0.0)
   {
@@ -75,9 +82,9 @@ StepPlan planPbd(const PbdSettings& settings, const DistanceBatch& links,
     plan.add(Stage::Residual, "last step of each frame");
   }
   plan.add(Stage::UpdateVelocities);
-  if (settings.floorEnabled && (settings.friction > 0.0 || settings.restitution > 0.0))
+  if (collisions && settings.collisions.restitution > 0.0)
   {
-    plan.add(Stage::ContactResponse);
+    plan.add(Stage::ContactResponse, "restitution");
   }
   // A yield without creep never changes a rest length, so only breaking or flowing links
   // need the pass.

@@ -28,6 +28,16 @@ bool indicesValid(const PbdBody& body)
       return false;
     }
   }
+  for (const auto& triangle : body.surfaceTriangles)
+  {
+    for (std::int32_t i : triangle)
+    {
+      if (!valid(i))
+      {
+        return false;
+      }
+    }
+  }
   return (body.pointMass.empty() || body.pointMass.size() == n) &&
     (body.pinned.empty() || body.pinned.size() == n);
 }
@@ -48,6 +58,13 @@ PbdBody reorderParticles(const PbdBody& body, const Reordering& reordering)
   for (auto& l : stored.links)
   {
     l = { slot[static_cast<std::size_t>(l[0])], slot[static_cast<std::size_t>(l[1])] };
+  }
+  for (auto& triangle : stored.surfaceTriangles)
+  {
+    for (std::int32_t& v : triangle)
+    {
+      v = slot[static_cast<std::size_t>(v)];
+    }
   }
   stored.pointMass = toStorageOrder(body.pointMass, reordering.vertexOrder);
   stored.pinned = toStorageOrder(body.pinned, reordering.vertexOrder);

@@ -37,8 +37,10 @@ void validateSettings(const PbdSettings& s)
     check::nonZeroDirection("FloorNormal", s.floor.normal);
   }
   check::nonNegative("ParticleRadius", s.particleRadius, "m");
-  check::nonNegative("Friction", s.friction, "", "frictionless");
-  check::inRange("Restitution", s.restitution, 0.0, 1.0);
+  check::nonNegative("StaticFriction", s.collisions.staticFriction, "", "frictionless");
+  check::nonNegative("DynamicFriction", s.collisions.dynamicFriction, "", "frictionless");
+  check::inRange("Restitution", s.collisions.restitution, 0.0, 1.0);
+  check::nonNegative("CollisionMargin", s.collisions.margin, "m", "automatic");
   check::inRange("PBDLinkStiffness", s.links.stiffness, 0.0, 1.0);
   check::inRange("PBDVolumeStiffness", s.volumes.stiffness, 0.0, 1.0);
   check::inRange("PBDPinStiffness", s.attachments.stiffness, 0.0, 1.0);
@@ -258,19 +260,16 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   Rest = std::move(body.points);
   State.positions = Rest;
   State.velocities.assign(n, Vec3::Zero());
-  Plan = planPbd(Settings, Links, Volumes, Attachments);
+  labelBodies();
+  setUpCollisions(topology.tets, body.surfaceTriangles);
+  replan();
   // Rest lengths and broken flags are state (snapshotted, restored) only where they change.
   if (Plan.runs(Stage::UpdateLinks))
   {
     State.linkRestLengths = Links.rest;
     State.linkBroken = Links.broken;
   }
-  labelBodies();
-  if (Plan.runs(Stage::ContactResponse) && Settings.restitution > 0.0)
-  {
-    State.impactSpeeds.assign(n, 0.0);
-  }
-  if (Settings.floorEnabled)
+  if (Plan.runs(Stage::CollisionDetect) && Settings.floorEnabled)
   {
     liftBodiesOntoFloor();
   }
@@ -315,61 +314,6 @@ void PbdSimulation::labelBodies()
     }
     BodyOf[i] = BodyOf[r];
   }
-}
-
-void PbdSimulation::liftBodiesOntoFloor()
-{
-  // Pre-stabilization (Macklin et al. 2014, initial penetration): a correction applied to the
-  // positions and to the previous positions alike removes penetration without adding
-  // velocity. Here the velocities stay as they are, which is the same thing. Projecting each
-  // point onto the floor by itself, as the first step would, flattens the part below it; the
-  // elastic constraints then throw the body up (a torus centred on the floor left at 23 m/s).
-  // The correction the whole constrained problem converges to for a body in its rest shape is
-  // a rigid lift of each body by its deepest penetration, so that is what is applied. Bodies
-  // with hard pins are held where they are and left to the floor projection.
-  const FloorPlane& floor = Settings.floor;
-  const std::size_t bodies = BodyFirstPoint.size();
-  std::vector<double> deepest(bodies, 0.0);
-  std::vector<char> held(bodies, 0);
-  std::size_t below = 0;
-  for (std::size_t i = 0; i < Rest.size(); ++i)
-  {
-    const double height = floor.normal.dot(State.positions[i] - floor.origin);
-    below += height < 0.0 ? 1 : 0;
-    const std::int32_t b = BodyOf[i];
-    deepest[b] = std::min(deepest[b], height - Settings.particleRadius);
-    if (InverseMass[i] == 0.0)
-    {
-      held[b] = 1;
-    }
-  }
-  if (below == 0)
-  {
-    return;
-  }
-  std::size_t lifted = 0;
-  for (std::size_t i = 0; i < Rest.size(); ++i)
-  {
-    const std::int32_t b = BodyOf[i];
-    if (!held[b] && deepest[b] < 0.0)
-    {
-      State.positions[i] -= deepest[b] * floor.normal;
-      lifted += BodyFirstPoint[b] == static_cast<std::int32_t>(i) ? 1 : 0;
-    }
-  }
-  std::ostringstream message;
-  message << below << " points start below the floor: ";
-  if (lifted > 0)
-  {
-    message << lifted << (lifted == 1 ? " body was" : " bodies were")
-            << " lifted onto it without velocity";
-  }
-  if (lifted < bodies && std::any_of(held.begin(), held.end(), [](char h) { return h != 0; }))
-  {
-    message << (lifted > 0 ? "; " : "") << "pinned bodies stay and are pushed onto it in the first step";
-  }
-  message << ". Move FloorOrigin below the body to drop it instead.";
-  Warnings.push_back(message.str());
 }
 
 void PbdSimulation::setComplianceFromElasticity(const Topology& topology, const std::vector<Vec3>& rest)

@@ -23,9 +23,12 @@ void PbdSimulation::restoreState(const DynamicState& snapshot)
   }
   const bool bounces = !State.impactSpeeds.empty();
   State = snapshot;
-  if (bounces && State.impactSpeeds.size() != State.positions.size())
+  if (bounces && (State.impactSpeeds.size() != State.positions.size() ||
+                   State.impactNormals.size() != State.positions.size()))
   {
-    State.impactSpeeds.assign(State.positions.size(), 0.0); // a snapshot from before bounces
+    // a snapshot from before bounces
+    State.impactSpeeds.assign(State.positions.size(), 0.0);
+    State.impactNormals.assign(State.positions.size(), Vec3::Zero());
   }
   LinkStateStale = false;
   if (!State.linkRestLengths.empty())
@@ -142,9 +145,6 @@ void PbdSimulation::projectAll(Stage stage)
     case Stage::SolveAttachments:
       sweepBatch(Attachments, AttachmentSchedule);
       break;
-    case Stage::SolveFloor:
-      projectFloor();
-      break;
     default:
       break;
   }
@@ -152,13 +152,18 @@ void PbdSimulation::projectAll(Stage stage)
 
 void PbdSimulation::sweep()
 {
-  // One iteration: the planned constraint types in a fixed order (links, volumes, pins, floor).
-  for (Stage stage : { Stage::SolveLinks, Stage::SolveVolumes, Stage::SolveAttachments, Stage::SolveFloor })
+  // One iteration: the planned constraint types in a fixed order (links, volumes, pins), then
+  // the contacts, so each iteration ends with the inequalities satisfied.
+  for (Stage stage : { Stage::SolveLinks, Stage::SolveVolumes, Stage::SolveAttachments })
   {
     if (Plan.runs(stage))
     {
       projectAll(stage);
     }
+  }
+  if (Plan.runs(Stage::SolveContacts))
+  {
+    projectContacts();
   }
 }
 
@@ -181,16 +186,9 @@ double PbdSimulation::residual() const
   {
     sum += squaredResidual(Attachments, x, InverseMass);
   }
-  if (Plan.runs(Stage::SolveFloor))
+  if (Plan.runs(Stage::SolveContacts))
   {
-    for (std::size_t i = 0; i < x.size(); ++i)
-    {
-      const double C = Settings.floor.normal.dot(x[i] - Settings.floor.origin) - Settings.particleRadius;
-      if (C < 0.0 && InverseMass[i] > 0.0)
-      {
-        sum += C * C;
-      }
-    }
+    sum += contactResidual();
   }
   return std::sqrt(sum);
 }
@@ -233,10 +231,9 @@ void PbdSimulation::substep(double h, bool recordResiduals)
 {
   prepareParameters(h);
   predict(h);
-  if (Plan.runs(Stage::SolveFloor))
+  if (Plan.runs(Stage::CollisionDetect))
   {
-    InContact.assign(State.positions.size(), 0);
-    FloorPush.assign(State.positions.size(), 0.0);
+    detectContacts(h);
   }
   solve(recordResiduals);
   updateVelocities(h);
@@ -260,6 +257,7 @@ void PbdSimulation::stepOnce(double h, bool recordConvergence)
   const double hs = h / Settings.substeps;
   for (int s = 0; s < Settings.substeps; ++s)
   {
+    SubstepTime = State.time + s * hs;
     substep(hs, RecordEveryStep || (recordConvergence && s + 1 == Settings.substeps));
   }
   State.time += h;

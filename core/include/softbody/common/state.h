@@ -28,10 +28,12 @@ struct DynamicState
   /// the current rest length and broken flag of each link. Empty for models without any.
   std::vector<double> linkRestLengths;
   std::vector<unsigned char> linkBroken;
-  /// PBD/XPBD floor restitution of whole bodies: per point, the normal approach speed [m/s]
-  /// its body hit the floor with while that bounce is unresolved (0 = none; negative: the body
-  /// has been at rest on the floor for one substep). Empty without restitution.
+  /// PBD/XPBD restitution of whole bodies: per point, the normal approach speed [m/s] its body
+  /// hit an obstacle (the floor included) with while that bounce is unresolved (0 = none;
+  /// negative: the body has been at rest on it for one substep), and the unit normal it hit
+  /// along. Empty without restitution.
   std::vector<double> impactSpeeds;
+  std::vector<Vec3> impactNormals;
 };
 
 } // namespace softbody

@@ -30,11 +30,10 @@ enum class Stage
   SolveLinks,       ///< distance constraints, every iteration
   SolveVolumes,     ///< tet volume constraints, every iteration
   SolveAttachments, ///< soft pins, every iteration
-  SolveFloor,       ///< floor (inequality) constraints, every iteration
   SolveContacts,    ///< detected contacts as inequality constraints, every iteration
   Residual,         ///< constraint residual after each iteration (tolerance or convergence output)
   UpdateVelocities, ///< v = (p - x) / h, x = p
-  ContactResponse,  ///< floor friction and restitution on the velocities
+  ContactResponse,  ///< restitution at the contacts, on the velocities (friction is in the solve)
   UpdateLinks,      ///< plasticity and breaking of links
   // Every method
   DivergenceCheck, ///< non-finite or exploded state (every few steps and at the last one)

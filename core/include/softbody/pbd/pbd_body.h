@@ -25,6 +25,10 @@ struct PbdBody
   /// Empty or one flag per point. Pinned points are fixed (inverse mass 0) when the attachment
   /// is hard (stiffness 1 / compliance 0), otherwise attached to their rest position.
   std::vector<char> pinned;
+  /// Optional triangles a body without tets collides through (cloth: two per grid cell),
+  /// two-sided. Tet bodies collide through their boundary faces, found at set-up; points in
+  /// neither a tet nor one of these collide as spheres of PbdSettings::particleRadius.
+  std::vector<std::array<std::int32_t, 3>> surfaceTriangles;
 };
 
 } // namespace softbody

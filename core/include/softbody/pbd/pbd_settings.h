@@ -61,11 +61,13 @@ struct PbdSettings
 
   bool floorEnabled = false;
   FloorPlane floor;
-  double particleRadius = 0.0; ///< particles keep this distance from the floor [m]
-  double friction = 0.0;       ///< Coulomb coefficient at the floor
-  double restitution = 0.0;    ///< in [0, 1]: the normal speed kept after a bounce
+  /// Radius of the particles of particle bodies (points in no tet and no surface triangle:
+  /// voxelized lattices), which collide as spheres of it [m].
+  double particleRadius = 0.0;
 
-  /// Floor, obstacles, bodies, self: what is detected and how contacts respond.
+  /// Floor, obstacles, bodies, self: what is detected, the margin, and how contacts respond
+  /// (static and dynamic friction, restitution). The floor is one obstacle among the others:
+  /// with mode Off nothing is collided with, not even the floor.
   CollisionSettings collisions;
   ConstraintMaterial links;       ///< distance: compliance in m/N
   ConstraintMaterial volumes;     ///< tet volume (C = V - V0 in m^3): compliance in m^3/Pa

@@ -1,16 +1,20 @@
 // Position-based dynamics (Mueller et al. 2007) and XPBD (Macklin et al. 2016) on particles
 // linked by distance constraints (tet edges, cloth and lattice links) and tet volume
-// constraints, with pins, a floor with friction and restitution, and breakable and plastic links.
+// constraints, with pins, contacts (the floor, obstacles, other bodies, itself) as inequality
+// constraints with friction and restitution, and breakable and plastic links.
 #pragma once
 
+#include "softbody/collision/collision_detector.h"
 #include "softbody/common/simulation.h"
 #include "softbody/mesh/topology.h"
 #include "softbody/pbd/pbd_body.h"
+#include "softbody/pbd/pbd_contact_kernels.h"
 #include "softbody/pbd/pbd_constraints.h"
 #include "softbody/pbd/pbd_settings.h"
 #include "softbody/pbd/pbd_solvers.h"
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,6 +48,14 @@ public:
   double estimatedStableStep() const override { return 0.0; }
   const std::vector<std::string>& warnings() const override { return Warnings; }
   const StepPlan& stepPlan() const override { return Plan; }
+  bool supportsObstacles() const override { return true; }
+  /// With Collisions Off nothing is collided with, so the obstacles are kept out of the step.
+  void setObstacles(std::vector<ObstacleSurface> obstacles, double endTime) override;
+
+  /// The contacts of the last substep (stepper numbering) and the detector that found them
+  /// (null when the collision mode is Off).
+  const ContactSet& contacts() const { return Contacts; }
+  const CollisionDetector* collisionDetector() const { return Detector.get(); }
 
   /// Runs exactly one step of size h (tests and benchmarks drive the solver with this); it
   /// records its convergence when the plan has a residual stage.
@@ -79,11 +91,18 @@ private:
   void sweep();
   void projectAll(Stage stage);
   double residual() const;
-  void projectFloor();
   void updateVelocities(double h);
+  void labelBodies();
+  // Collisions (pbd_collisions.cpp, pbd_contact_response.cpp)
+  void setUpCollisions(const std::vector<Tet>& tets,
+    const std::vector<std::array<std::int32_t, 3>>& surfaceTriangles);
+  bool collisionsActive() const; ///< anything to collide with: the plan's condition
+  void replan();
+  void detectContacts(double h);
+  void projectContacts();
+  double contactResidual() const;
   void applyContactResponse(double h);
   void applyBodyRestitution(double h);
-  void labelBodies();
   void liftBodiesOntoFloor();
   void updateLinks(double h);
   void markBrokenTets();
@@ -118,11 +137,21 @@ private:
   PbdConvergence Convergence;
   mutable unsigned long long ResidualEvaluations = 0;
 
+  std::unique_ptr<CollisionDetector> Detector; ///< null when the collision mode is Off
+  bool HasObstacles = false;
+
   // Per-step scratch
   std::vector<Vec3> Predicted;
   std::vector<Vec3> VelocityBefore; ///< velocity entering the solve (for restitution)
-  std::vector<unsigned char> InContact;
-  std::vector<double> FloorPush; ///< sum of the floor's corrections along its normal this substep [m]
+  std::vector<unsigned char> InContact; ///< a contact pushed the point this substep
+  ContactSet Contacts;                  ///< this substep's, sorted by point
+  std::vector<ContactMultipliers> ContactLambda; ///< per contact, over the substep's iterations
+  /// Obstacle contacts move only their own point: contacts [ObstacleGroups[g],
+  /// ObstacleGroups[g + 1]) are one point's, solved as one parallel task.
+  std::vector<std::size_t> ObstacleGroups;
+  std::vector<std::size_t> BodyContacts; ///< point-point and point-triangle contacts, in order
+  double SubstepTime = 0.0;              ///< start of the current substep [s]
+  double SubstepStep = 0.0;              ///< its length [s]
   std::vector<Vec3> JacobiScratch;
   double ParametersStep = -1.0;
 };
