@@ -52,7 +52,6 @@ void PbdSimulation::applyContactResponse(double h)
   const double restingSpeed = 2.0 * Settings.gravity.norm() * h;
   const double e = Settings.collisions.restitution;
   std::vector<Vec3>& v = State.velocities;
-  InContact.assign(State.positions.size(), 0);
   // Obstacle contacts: the normal speed relative to the surface leaves at e times the one it
   // arrived with (one point each, one task per point, as in the solve).
   parallelFor(ObstacleGroups.size() - 1, 256, [&](std::size_t g) {
@@ -68,7 +67,6 @@ void PbdSimulation::applyContactResponse(double h)
         continue; // never pushed: a speculative contact
       }
       const std::size_t i = static_cast<std::size_t>(c.point);
-      InContact[i] = 1;
       if (InverseMass[i] == 0.0)
       {
         continue;
@@ -101,7 +99,6 @@ void PbdSimulation::applyContactResponse(double h)
       approach += p.c[j] * n.dot(VelocityBefore[i]);
       now += p.c[j] * n.dot(v[i]);
       W += p.c[j] * p.c[j] * InverseMass[i];
-      InContact[i] = 1;
     }
     const double change = restitutionSpeedChange(approach, now, e, restingSpeed);
     if (change > 0.0 && W > 0.0)

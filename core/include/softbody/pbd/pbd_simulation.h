@@ -143,7 +143,6 @@ private:
   // Per-step scratch
   std::vector<Vec3> Predicted;
   std::vector<Vec3> VelocityBefore; ///< velocity entering the solve (for restitution)
-  std::vector<unsigned char> InContact; ///< a contact pushed the point this substep
   ContactSet Contacts;                  ///< this substep's, sorted by point
   std::vector<ContactMultipliers> ContactLambda; ///< per contact, over the substep's iterations
   /// Obstacle contacts move only their own point: contacts [ObstacleGroups[g],
