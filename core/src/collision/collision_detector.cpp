@@ -559,19 +559,16 @@ void CollisionDetector::collectAccelerated(BroadPhase kind, std::size_t collidin
   {
     return;
   }
-  auto visit = [&](std::int32_t other) {
-    if (static_cast<std::size_t>(other) > colliding) // each pair once, at its smaller point
-    {
-      testPointPoint(point, Colliding[other], start, predicted, candidates);
-    }
-  };
+  // Each pair once, at its smaller point.
+  const auto self = static_cast<std::int32_t>(colliding);
+  auto visit = [&](std::int32_t other) { testPointPoint(point, Colliding[other], start, predicted, candidates); };
   if (kind == BroadPhase::Octree)
   {
-    Octree.forEachNear(x, CollidingReach[colliding], visit);
+    Octree.forEachNear(x, CollidingReach[colliding], self, visit);
   }
   else
   {
-    Grid.forEachNear(x, CollidingReach[colliding], visit);
+    Grid.forEachNear(x, CollidingReach[colliding], self, visit);
   }
 }
 
@@ -598,10 +595,14 @@ void CollisionDetector::detect(const std::vector<Vec3>& start, const std::vector
   // in block order is the same whatever thread ran which block.
   constexpr std::size_t kBlock = 256;
   const std::size_t blocks = (Colliding.size() + kBlock - 1) / kBlock;
-  std::vector<ContactSet> perBlock(blocks);
-  std::vector<std::size_t> examined(blocks, 0);
+  // Kept between detections (cleared, not freed): no page faults for the outputs.
+  std::vector<ContactSet>& perBlock = BlockContacts;
+  perBlock.resize(blocks);
+  std::vector<std::size_t>& examined = BlockExamined;
+  examined.assign(blocks, 0);
   parallelFor(blocks, 1, [&](std::size_t b) {
     Candidates candidates;
+    perBlock[b].clear();
     const std::size_t end = std::min(Colliding.size(), (b + 1) * kBlock);
     for (std::size_t k = b * kBlock; k < end; ++k)
     {
