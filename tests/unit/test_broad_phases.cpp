@@ -172,10 +172,19 @@ TEST(BroadPhaseStructures, FindExactlyThePairsWithinReachEachOnce)
 
       UniformGrid grid;
       grid.build(x, reach, 2.0 * *std::max_element(reach.begin(), reach.end()));
-      EXPECT_EQ(pairsFound(x.size(), [&](std::size_t i, auto visit) { grid.forEachNear(x[i], reach[i], visit); }), expected);
+      EXPECT_TRUE(grid.dense());
+      EXPECT_EQ(pairsFound(x.size(), [&](std::size_t i, auto visit) {
+        grid.forEachNear(x[i], reach[i], -1, [&](std::int32_t j) {
+          const double within = reach[i] + reach[static_cast<std::size_t>(j)];
+          if ((x[i] - x[static_cast<std::size_t>(j)]).squaredNorm() <= within * within)
+          {
+            visit(j);
+          }
+        });
+      }), expected);
       PointOctree octree;
       octree.build(x, reach);
-      EXPECT_EQ(pairsFound(x.size(), [&](std::size_t i, auto visit) { octree.forEachNear(x[i], reach[i], visit); }), expected);
+      EXPECT_EQ(pairsFound(x.size(), [&](std::size_t i, auto visit) { octree.forEachNear(x[i], reach[i], static_cast<std::int32_t>(i), visit); }), expected);
       // The BVH over point boxes (degenerate triangles): boxes within radius = sum of reaches.
       std::vector<Aabb> boxes(x.size());
       for (std::size_t i = 0; i < x.size(); ++i)
@@ -217,6 +226,47 @@ TEST(BroadPhaseStructures, FindExactlyThePairsWithinReachEachOnce)
       EXPECT_EQ(refitPairs, truePairs(moved, reach));
     }
   }
+}
+
+TEST(BroadPhaseStructures, HashedGridForSparsePointsFindsThePairsToo)
+{
+  // Clusters a kilometre apart: the dense cell box would be far too large, so the grid hashes.
+  std::vector<Vec3> x = randomPoints(800, 0.5, true, 5);
+  for (std::size_t i = 0; i < x.size(); i += 2)
+  {
+    x[i] += Vec3(1000.0, -2000.0, 500.0);
+  }
+  const std::vector<double> reach = randomReaches(x.size(), 0.01, 6);
+  UniformGrid grid;
+  grid.build(x, reach, 0.02);
+  EXPECT_FALSE(grid.dense());
+  const auto expected = truePairs(x, reach);
+  ASSERT_GT(expected.size(), 50u);
+  EXPECT_EQ(pairsFound(x.size(), [&](std::size_t i, auto visit) {
+    grid.forEachNear(x[i], reach[i], static_cast<std::int32_t>(i), [&](std::int32_t j) {
+      const double within = reach[i] + reach[static_cast<std::size_t>(j)];
+      if ((x[i] - x[static_cast<std::size_t>(j)]).squaredNorm() <= within * within)
+      {
+        visit(j);
+      }
+    });
+  }), expected);
+  // Reaches as large as the clusters: many points per cell and per bucket, each pair once.
+  std::vector<Vec3> few(x.begin(), x.begin() + 40);
+  std::vector<double> fewReach(reach.begin(), reach.begin() + 40);
+  for (double& r : fewReach)
+  {
+    r = 0.3;
+  }
+  grid.build(few, fewReach, 0.6);
+  EXPECT_EQ(pairsFound(few.size(), [&](std::size_t i, auto visit) {
+    grid.forEachNear(few[i], fewReach[i], -1, [&](std::int32_t j) {
+      if ((few[i] - few[static_cast<std::size_t>(j)]).norm() <= 0.6)
+      {
+        visit(j);
+      }
+    });
+  }), truePairs(few, fewReach));
 }
 
 TEST(BroadPhases, SameContactSetAsBruteForceOnRandomScenes)

@@ -270,6 +270,58 @@ TEST(CollisionDetection, ClosedObstacleGivesOneContactPerFeatureAndBothFacesOfAC
   EXPECT_EQ(contacts[0].normal.dot(contacts[1].normal), 0.0);
 }
 
+TEST(CollisionDetection, PointBetweenTwoPartsOfOneObstacleTouchesBoth)
+{
+  // Two boxes in one obstacle surface, 0.02 apart along x, the right one taller; a point in
+  // the gap above the left box's top edge, nearer to the right box's face than to that edge.
+  // Both must push it: the edge is not covered by a face of another part.
+  ObstacleSurface twoBoxes = boxObstacle(Vec3(0, 0, 0), Vec3(1, 1, 1));
+  const ObstacleSurface right = boxObstacle(Vec3(1.02, 0, 0), Vec3(2, 1, 2));
+  const auto base = static_cast<std::int32_t>(twoBoxes.vertices.size());
+  twoBoxes.vertices.insert(twoBoxes.vertices.end(), right.vertices.begin(), right.vertices.end());
+  for (auto t : right.triangles)
+  {
+    twoBoxes.triangles.push_back({ t[0] + base, t[1] + base, t[2] + base });
+  }
+  CollisionDetector detector(onePoint(Vec3(5, 5, 5)), settingsWith(CollisionMode::Obstacles, 0.02), false, {});
+  detector.setObstacles({ twoBoxes }, 0.0);
+  const Vec3 gap(1.012, 0.5, 1.003); // 0.008 from the right face, 0.0124 from the left edge
+  const ContactSet contacts = detectOnce(detector, { gap }, { gap });
+  ASSERT_EQ(contacts.size(), 2u);
+  int pushedLeft = 0, pushedRight = 0;
+  for (const Contact& c : contacts)
+  {
+    pushedLeft += c.normal.x() < -0.99; // the right box's face x = 1.02
+    pushedRight += c.normal.x() > 0.1;  // the left box's edge, diagonally
+  }
+  EXPECT_EQ(pushedLeft, 1);
+  EXPECT_EQ(pushedRight, 1);
+}
+
+TEST(CollisionDetection, RidgeNearerThanTheFloorItStandsOnIsKept)
+{
+  // A floor square and a thin wall standing on its edge (sharing its vertices): a point above
+  // the floor near the wall's top ridge touches the ridge and, within the margin, the floor.
+  ObstacleSurface floorAndWall = flatObstacle(0.0, 1.0); // vertices 0..3, edge 1-2 at x = 1
+  floorAndWall.vertices.push_back(Vec3(1, -1, 0.05));
+  floorAndWall.vertices.push_back(Vec3(1, 1, 0.05));
+  floorAndWall.triangles.push_back({ 1, 5, 2 }); // wall x = 1, normal -x (toward the floor)
+  floorAndWall.triangles.push_back({ 1, 4, 5 });
+  CollisionDetector detector(onePoint(Vec3(5, 5, 5)), settingsWith(CollisionMode::Obstacles, 0.06), false, {});
+  detector.setObstacles({ floorAndWall }, 0.0);
+  const Vec3 x(0.99, 0.0, 0.055); // 0.011 from the ridge, 0.055 above the floor
+  const ContactSet contacts = detectOnce(detector, { x }, { x });
+  ASSERT_EQ(contacts.size(), 2u);
+  bool floorFound = false, ridgeFound = false;
+  for (const Contact& c : contacts)
+  {
+    floorFound = floorFound || c.normal == Vec3::UnitZ();
+    ridgeFound = ridgeFound || (c.normal.z() > 0.1 && c.normal.x() < -0.1);
+  }
+  EXPECT_TRUE(floorFound);
+  EXPECT_TRUE(ridgeFound);
+}
+
 TEST(CollisionDetection, MovingObstacleIsWhereItsVelocityPutsItAndCarriesItsVelocity)
 {
   const double margin = 0.01, endTime = 2.0, h = 0.01, time = 1.5;

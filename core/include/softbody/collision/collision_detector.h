@@ -112,6 +112,8 @@ private:
   bool ObstacleBvhBuilt = false;
   std::vector<std::array<std::int32_t, 2>> ObstacleItems; ///< (obstacle, triangle) per obstacle BVH item
   std::vector<Aabb> ItemBoxes;            ///< scratch for the BVH refits
+  std::vector<ContactSet> BlockContacts;  ///< per block of points, kept between detections
+  std::vector<std::size_t> BlockExamined;
 
   CollisionSettings Settings;
   bool FloorEnabled = false;

@@ -24,6 +24,9 @@
 #include "softbody/collision/closest_point.h"
 #include "softbody/collision/contact.h"
 
+#include <array>
+#include <cstdint>
+
 namespace softbody
 {
 
@@ -33,6 +36,9 @@ struct ContactCandidate
   Contact contact;
   double distance = 0.0; ///< |point - closest point| at the predicted positions [m]
   bool onFace = false;   ///< closest feature is the triangle's interior
+  /// The touched triangle's vertices (obstacle or body numbering; -1 for the floor and
+  /// particles): which contacts lie on neighbouring triangles of one surface.
+  std::array<std::int32_t, 3> corners{ -1, -1, -1 };
 };
 
 /// Point p against triangle (a, b, c), all at the end of the substep. Fills `out.contact`'s

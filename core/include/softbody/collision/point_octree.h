@@ -23,9 +23,10 @@ public:
   /// Builds the tree over items 0..n-1. Deterministic: points are ordered by (code, index).
   void build(const std::vector<Vec3>& positions, const std::vector<double>& reaches);
 
-  /// visit(item) for every item j with |p - x_j| <= reach + reach_j, each once.
+  /// visit(item) for every item j > `after` with |p - x_j| <= reach + reach_j, each once
+  /// (-1: all items).
   template <typename Visit>
-  void forEachNear(const Vec3& p, double reach, const Visit& visit) const;
+  void forEachNear(const Vec3& p, double reach, std::int32_t after, const Visit& visit) const;
 
   std::size_t nodeCount() const { return Nodes.size(); }
 
@@ -49,7 +50,7 @@ private:
 };
 
 template <typename Visit>
-void PointOctree::forEachNear(const Vec3& p, double reach, const Visit& visit) const
+void PointOctree::forEachNear(const Vec3& p, double reach, std::int32_t after, const Visit& visit) const
 {
   if (Nodes.empty())
   {
@@ -71,7 +72,7 @@ void PointOctree::forEachNear(const Vec3& p, double reach, const Visit& visit) c
       for (std::uint32_t s = node.begin; s < node.end; ++s)
       {
         const double pair = reach + SortedReaches[s];
-        if ((SortedPositions[s] - p).squaredNorm() <= pair * pair)
+        if (Items[s] > after && (SortedPositions[s] - p).squaredNorm() <= pair * pair)
         {
           visit(Items[s]);
         }
