@@ -51,6 +51,8 @@ size = float(np.max(x0.max(axis=0) - x0.min(axis=0)))
 print(f"jelly XPBD at 2 s: min z {x[:, 2].min():.4f} m, max speed {np.linalg.norm(v, axis=1).max():.4f} m/s, "
       f"VolumeRatio [{ratio.min():.4f}, {ratio.max():.4f}]\n{sbt.field_summary(end)}")
 sbt.check(x[:, 2].min() > -1e-9, "no point below the floor")
-sbt.check(x[:, 2].min() < 1e-3 * size, "the jelly rests on the floor")
+# Resting means at the contact margin: automatic, a tenth of the mean surface edge length
+# (3.7 mm for the jelly, 1.2 % of its size).
+sbt.check(x[:, 2].min() < 0.02 * size, "the jelly rests on the floor (at its contact margin)")
 sbt.check(abs(ratio.mean() - 1.0) < 0.02, f"volume kept within 2% (mean ratio {ratio.mean():.4f})")
 sbt.check(np.linalg.norm(v, axis=1).max() < 0.2, "the jelly has come to rest")
