@@ -5,6 +5,8 @@
 // at any thread count and for every broad phase.
 #include "softbody/collision/collision_detector.h"
 
+#include "softbody/collision/collision_input.h"
+#include "softbody/collision/contact_reduction.h"
 #include "softbody/collision/narrow_phase.h"
 #include "softbody/common/errors.h"
 #include "softbody/common/parallel.h"
@@ -31,190 +33,14 @@ namespace
 
 /// Automatic broad phase: brute force up to this many pair tests per detection (points x
 /// (points + triangles)), the uniform grid above. bench_collision's crossover on touching
-/// particles (all threads, min of 20 runs): 27 particles (729 pair tests) brute force took
-/// 0.83 of the grid's time, 64 particles (4,096) 1.58 of it, 125 (15,625) 2.8 of it.
+/// particles (all threads, least of 28 runs each, on the shared 2-core machine): at 27
+/// particles (729 pair tests) brute force took 0.83 of the grid's time, at 64 (4,096) 1.58 of
+/// it, at 125 (15,625) 2.8 of it.
 constexpr double kBruteForcePairs = 2000.0;
 
 std::string indexText(std::size_t index)
 {
   return std::to_string(index);
-}
-
-void validateGeometry(const CollisionGeometry& g)
-{
-  const std::size_t n = g.rest.size();
-  if (g.bodyOf.size() != n || g.radius.size() != n)
-  {
-    throw InvalidInputError("Collision geometry: " + indexText(n) + " rest positions but " +
-      indexText(g.bodyOf.size()) + " body indices and " + indexText(g.radius.size()) + " radii.");
-  }
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    check::finite("Collision geometry rest position", g.rest[i]);
-    if (!std::isfinite(g.radius[i]) || g.radius[i] < 0.0)
-    {
-      throw InvalidInputError("Collision geometry: the radius of point " + indexText(i) +
-        " must be >= 0, got " + check::quote(g.radius[i]) + ".");
-    }
-  }
-  auto checkIndex = [n](std::int32_t index, const char* what) {
-    if (index < 0 || static_cast<std::size_t>(index) >= n)
-    {
-      throw InvalidInputError(std::string("Collision geometry: ") + what + " index " +
-        std::to_string(index) + " is out of range [0, " + indexText(n) + ").");
-    }
-  };
-  for (const auto& triangle : g.surfaceTriangles)
-  {
-    for (std::int32_t v : triangle)
-    {
-      checkIndex(v, "surface triangle vertex");
-    }
-  }
-  for (std::int32_t p : g.collidingPoints)
-  {
-    checkIndex(p, "colliding point");
-  }
-  if (!g.twoSided.empty() && g.twoSided.size() != g.surfaceTriangles.size())
-  {
-    throw InvalidInputError("Collision geometry: " + indexText(g.twoSided.size()) +
-      " two-sided flags for " + indexText(g.surfaceTriangles.size()) + " surface triangles.");
-  }
-}
-
-/// CollisionMargin = 0: a tenth of the mean surface edge length where there are surface
-/// triangles, a tenth of the mean particle radius where there are particles (the smaller of
-/// the two when both), so the gap kept between touching things stays small against the
-/// bodies' own scale. (A margin of a whole radius, as first planned, would keep particles
-/// two radii off the floor: visibly floating.)
-double automaticMargin(const CollisionGeometry& g)
-{
-  double edgeSum = 0.0;
-  std::size_t edges = 0;
-  for (const auto& t : g.surfaceTriangles)
-  {
-    for (int k = 0; k < 3; ++k)
-    {
-      edgeSum += (g.rest[t[(k + 1) % 3]] - g.rest[t[k]]).norm();
-      ++edges;
-    }
-  }
-  double radiusSum = 0.0;
-  std::size_t particles = 0;
-  for (std::int32_t p : g.collidingPoints)
-  {
-    if (g.radius[p] > 0.0)
-    {
-      radiusSum += g.radius[p];
-      ++particles;
-    }
-  }
-  double margin = 0.0;
-  if (edges > 0)
-  {
-    margin = 0.1 * edgeSum / static_cast<double>(edges);
-  }
-  if (particles > 0)
-  {
-    const double fromRadius = 0.1 * radiusSum / static_cast<double>(particles);
-    margin = edges > 0 ? std::min(margin, fromRadius) : fromRadius;
-  }
-  return margin;
-}
-
-/// The order of ContactSet: point, kind, source, then the other points (or triangle).
-bool contactBefore(const Contact& x, const Contact& y)
-{
-  return std::tie(x.point, x.kind, x.source, x.other) < std::tie(y.point, y.kind, y.source, y.other);
-}
-
-bool shareCorner(const std::array<std::int32_t, 3>& a, const std::array<std::int32_t, 3>& b)
-{
-  for (std::int32_t u : a)
-  {
-    for (std::int32_t v : b)
-    {
-      if (u >= 0 && u == v)
-      {
-        return true;
-      }
-    }
-  }
-  return false;
-}
-
-/// One point's candidates -> its contacts. Against one surface a point near an edge or corner
-/// finds that feature through every triangle around it, and near a face also finds the
-/// face's neighbours' edges; one contact per feature is wanted (the same constraint twice would
-/// mean twice the friction). Per (kind, source), nearest first: every contact on a face is kept
-/// (a point in a concave corner touches both faces); an edge or corner contact is kept unless
-/// a nearer (or equally near) kept contact lies on a triangle sharing a vertex with its
-/// triangle (the same feature, or the face next to it, covers it). A ridge nearer than the
-/// face it stands on is kept, and so are contacts on parts of the surface that share no vertex
-/// (a point between two fingers). Ties go by key, so the choice does not depend on the
-/// candidates' order.
-void reduceCandidates(std::vector<ContactCandidate>& found, std::vector<std::uint32_t>& order,
-  std::vector<std::uint32_t>& kept, ContactSet& out)
-{
-  if (found.size() == 1) // the common case: nothing to order or to merge
-  {
-    out.push_back(found[0].contact);
-    return;
-  }
-  // Sorted through an index array: the candidates are large to move. Within a group (kind,
-  // source): by distance, then by key, so every contact kept before one is no farther.
-  auto group = [&](std::uint32_t x) { return std::tie(found[x].contact.kind, found[x].contact.source); };
-  order.resize(found.size());
-  for (std::uint32_t k = 0; k < order.size(); ++k)
-  {
-    order[k] = k;
-  }
-  std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
-    if (group(x) != group(y))
-    {
-      return group(x) < group(y);
-    }
-    if (found[x].distance != found[y].distance)
-    {
-      return found[x].distance < found[y].distance;
-    }
-    return contactBefore(found[x].contact, found[y].contact);
-  });
-  kept.clear();
-  for (std::size_t begin = 0; begin < order.size();)
-  {
-    std::size_t end = begin + 1;
-    while (end < order.size() && group(order[end]) == group(order[begin]))
-    {
-      ++end;
-    }
-    const std::size_t groupStart = kept.size();
-    for (std::size_t k = begin; k < end; ++k)
-    {
-      const ContactCandidate& c = found[order[k]];
-      bool covered = false;
-      if (!c.onFace && c.contact.kind != ContactKind::PointPoint)
-      {
-        for (std::size_t q = groupStart; q < kept.size() && !covered; ++q)
-        {
-          covered = shareCorner(found[kept[q]].corners, c.corners); // kept ones are no farther
-        }
-      }
-      if (!covered)
-      {
-        kept.push_back(order[k]);
-      }
-    }
-    begin = end;
-  }
-  // Out in the ContactSet order.
-  std::sort(kept.begin(), kept.end(), [&](std::uint32_t x, std::uint32_t y) {
-    return contactBefore(found[x].contact, found[y].contact);
-  });
-  for (std::uint32_t k : kept)
-  {
-    out.push_back(found[k].contact);
-  }
 }
 
 } // namespace
@@ -236,7 +62,7 @@ CollisionDetector::CollisionDetector(CollisionGeometry geometry, const Collision
     check::finite("FloorOrigin", Floor.origin);
     Floor.normal.normalize();
   }
-  validateGeometry(Geometry);
+  validateCollisionGeometry(Geometry);
 
   Colliding = Geometry.collidingPoints;
   std::sort(Colliding.begin(), Colliding.end());
@@ -253,46 +79,7 @@ CollisionDetector::CollisionDetector(CollisionGeometry geometry, const Collision
 
 void CollisionDetector::setObstacles(std::vector<ObstacleSurface> obstacles, double endTime)
 {
-  if (!std::isfinite(endTime))
-  {
-    throw InvalidInputError("Obstacle end time must be finite, got " + check::quote(endTime) + ".");
-  }
-  for (std::size_t o = 0; o < obstacles.size(); ++o)
-  {
-    const ObstacleSurface& surface = obstacles[o];
-    const std::string name = "Obstacle " + indexText(o);
-    for (const Vec3& v : surface.vertices)
-    {
-      if (!v.allFinite())
-      {
-        throw InvalidInputError(name + " has a vertex that is not finite: " + check::quote(v) + ".");
-      }
-    }
-    if (!surface.velocities.empty() && surface.velocities.size() != surface.vertices.size())
-    {
-      throw InvalidInputError(name + " has " + indexText(surface.velocities.size()) +
-        " velocities for " + indexText(surface.vertices.size()) +
-        " vertices (give none for a static obstacle, or one per vertex).");
-    }
-    for (const Vec3& v : surface.velocities)
-    {
-      if (!v.allFinite())
-      {
-        throw InvalidInputError(name + " has a velocity that is not finite: " + check::quote(v) + ".");
-      }
-    }
-    for (const auto& triangle : surface.triangles)
-    {
-      for (std::int32_t index : triangle)
-      {
-        if (index < 0 || static_cast<std::size_t>(index) >= surface.vertices.size())
-        {
-          throw InvalidInputError(name + " has a triangle with vertex index " +
-            std::to_string(index) + ", out of range [0, " + indexText(surface.vertices.size()) + ").");
-        }
-      }
-    }
-  }
+  validateObstacles(obstacles, endTime);
   Obstacles = std::move(obstacles);
   ObstacleEndTime = endTime;
   ObstacleBvhBuilt = false; // new triangles: the tree is rebuilt at the next detection

@@ -115,7 +115,8 @@ void UniformGrid::scanHashed(std::int64_t ix, std::int64_t iy, std::int64_t iz, 
   // Two runs share a bucket only when their starts are less than 3 apart (modulo the table):
   // rare, so each run is compared with the earlier ones and read as one range unless it
   // clashes or wraps; then bucket by bucket, skipping those an earlier run already read.
-  // (Sorting the runs instead was a third of the query's time.)
+  // (Sorting the 9 runs instead took about a quarter of the samples in a profile of the
+  // detection on 100,000 particles.)
   const std::uint64_t size = Mask + 1;
   std::uint64_t first[9];
   int runs = 0;
