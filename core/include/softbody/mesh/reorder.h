@@ -141,6 +141,12 @@ public:
     return Warnings.empty() ? Inner->warnings() : Warnings;
   }
   const StepPlan& stepPlan() const override { return Inner->stepPlan(); }
+  /// Obstacles are not body points: they pass through unrenumbered.
+  bool supportsObstacles() const override { return Inner->supportsObstacles(); }
+  void setObstacles(std::vector<ObstacleSurface> obstacles, double endTime) override
+  {
+    Inner->setObstacles(std::move(obstacles), endTime);
+  }
 
   /// The stepper in storage order (its indices are storage indices).
   Simulation& inner() { return *Inner; }
