@@ -5,6 +5,7 @@
 // every broad phase).
 #pragma once
 
+#include "softbody/collision/boundary_triangles.h"
 #include "softbody/collision/collision_settings.h"
 #include "softbody/collision/contact.h"
 #include "softbody/collision/obstacle.h"
@@ -29,13 +30,14 @@ struct CollisionGeometry
   /// Outward-oriented boundary triangles of tet bodies (faces used by one tet) and the
   /// triangles of cloth; empty for pure particle bodies.
   std::vector<std::array<std::int32_t, 3>> surfaceTriangles;
+  /// Per surface triangle, 1 when it is two-sided (cloth: a point is kept on the side it
+  /// started the substep on), 0 when one-sided (a closed tet surface: points are pushed to
+  /// its outside). Empty = all one-sided.
+  std::vector<std::uint8_t> twoSided;
   /// Points that can touch anything: surface vertices and particles (pinned points included;
   /// the response leaves points of inverse mass 0 where they are).
   std::vector<std::int32_t> collidingPoints;
 };
-
-/// The tet bodies' boundary: faces used by exactly one tet, oriented outward.
-std::vector<std::array<std::int32_t, 3>> boundaryTriangles(const std::vector<Tet>& tets);
 
 /// Counts of the last detect() call, for the plan's report and the benchmarks.
 struct DetectionStats
@@ -70,7 +72,28 @@ public:
   const CollisionSettings& settings() const { return Settings; }
 
 private:
+  struct Candidates; // one point's narrow-phase results (collision_detector.cpp)
+  void prepareSubstep(const std::vector<Vec3>& start, const std::vector<Vec3>& predicted, double time, double h);
+  void collectBruteForce(std::size_t colliding, const std::vector<Vec3>& start,
+    const std::vector<Vec3>& predicted, Candidates& candidates) const;
+  void testObstacleTriangle(std::int32_t point, std::size_t obstacle, std::size_t triangle,
+    const std::vector<Vec3>& predicted, Candidates& candidates) const;
+  void testPointPoint(std::int32_t point, std::int32_t other, const std::vector<Vec3>& start,
+    const std::vector<Vec3>& predicted, Candidates& candidates) const;
+  void testPointTriangle(std::int32_t point, std::size_t triangle, const std::vector<Vec3>& start,
+    const std::vector<Vec3>& predicted, Candidates& candidates) const;
+  bool detectsBodies() const;
+  bool detectsSelf() const;
+
   CollisionGeometry Geometry;
+  std::vector<std::int32_t> Colliding;    ///< collidingPoints, sorted, without repeats
+  std::vector<std::int32_t> TriangleBody; ///< body of each surface triangle
+  // Per substep (prepareSubstep):
+  std::vector<double> Displacement;       ///< |predicted - start| per point [m]
+  std::vector<double> TriangleReach;      ///< largest corner displacement per surface triangle [m]
+  std::vector<std::vector<Vec3>> ObstacleNow; ///< obstacle vertices at the end of the substep
+  std::vector<std::vector<double>> ObstacleReach; ///< largest corner displacement per obstacle triangle [m]
+
   CollisionSettings Settings;
   bool FloorEnabled = false;
   FloorPlane Floor;

@@ -29,9 +29,10 @@ struct CollisionSettings
 {
   CollisionMode mode = CollisionMode::Obstacles;
   BroadPhase broadPhase = BroadPhase::Automatic;
-  /// Contact thickness kept between a point and what it touches [m]; 0 = automatic (the
-  /// particle radius for particle bodies, a tenth of the mean surface edge length for tet
-  /// bodies and cloth).
+  /// Contact thickness kept between a point and what it touches [m], on top of the particle
+  /// radii (Contact::thickness = margin + radii); 0 = automatic: a tenth of the mean particle
+  /// radius for particle bodies, a tenth of the mean surface edge length for tet bodies and
+  /// cloth, the smaller when both are present (CollisionDetector::margin() says the value).
   double margin = 0.0;
   /// Coulomb coefficients: a contact sticks while the tangential correction is below
   /// staticFriction times the normal one, and slides with dynamicFriction otherwise.

@@ -26,14 +26,18 @@ struct Contact
 {
   ContactKind kind = ContactKind::Obstacle;
   std::int32_t point = -1; ///< the body point in contact
-  /// PointPoint: other[0] is the other particle; PointTriangle: the triangle's three points.
+  /// PointPoint: other[0] is the other particle (each pair once: `point` is the smaller
+  /// index); PointTriangle: the triangle's three points; Obstacle: other[0] is the triangle's
+  /// index in its obstacle (-1 for the floor).
   std::array<std::int32_t, 3> other{ -1, -1, -1 };
-  Vec3 barycentric = Vec3::Zero(); ///< PointTriangle: weights of the closest point
+  Vec3 barycentric = Vec3::Zero(); ///< PointTriangle, Obstacle triangle: weights of the closest point
   /// Unit normal pointing from what is touched toward `point` (Obstacle: the surface's free
   /// side at the closest feature; PointTriangle: the triangle's outward normal, or the
   /// direction from the closest point when the vertex is at an edge or corner).
   Vec3 normal = Vec3::UnitZ();
-  Vec3 surfacePoint = Vec3::Zero();    ///< Obstacle: the closest point at detection [m]
+  /// Obstacle: the closest point at the end of the detected substep (time + h) [m];
+  /// PointPoint: the other particle's predicted centre (diagnostics).
+  Vec3 surfacePoint = Vec3::Zero();
   Vec3 surfaceVelocity = Vec3::Zero(); ///< Obstacle: its velocity there [m/s]
   double thickness = 0.0; ///< required separation [m] (margin, plus the particle radii)
   /// Index of the obstacle (0-based in setObstacles order; -1 for the floor) for Obstacle

@@ -1,0 +1,58 @@
+// The exact tests of one candidate pair, shared by every broad phase: a point against a
+// triangle (obstacle or body surface), a particle sphere against another, a point against the
+// floor plane. Pure functions: positions in, a contact (or none) out.
+//
+// The query. A contact is reported when the pair, at the end of the substep (the predicted
+// positions), is closer than its query radius = thickness + how far either side moved during
+// the substep. Any point of the segment start -> predicted lies within its displacement of the
+// predicted point, and a moving triangle's points lie within the largest displacement of its
+// corners, so a pair that comes within `thickness` at any time of the substep is always
+// reported: the sweep is conservative, never missing a contact, at the price of a few
+// speculative ones (C > 0, inactive inequalities) for fast points.
+//
+// One-sidedness. A triangle's free side is the one its normal (b - a) x (c - a) points to
+// (flipped by `side` = -1 for two-sided cloth triangles whose point started behind them). In
+// front, every feature counts and the normal is the face normal on the face and the direction
+// from the closest point on an edge or corner. Behind, only the face counts (a point behind an
+// edge of one triangle is in front of, or inside the face of, its neighbour) and only up to one
+// query radius deep: a point that crossed the surface during the substep is still caught and
+// pushed back out the front, while a point deeper than that is taken to be on the other side
+// of a thin wall. So an obstacle (or body part) thinner than the query radius can push points
+// through itself: a limit of one-sided surfaces, stated rather than hidden.
+#pragma once
+
+#include "softbody/collision/closest_point.h"
+#include "softbody/collision/contact.h"
+
+namespace softbody
+{
+
+/// A contact before the per-(point, source) reduction of the detector.
+struct ContactCandidate
+{
+  Contact contact;
+  double distance = 0.0; ///< |point - closest point| at the predicted positions [m]
+  bool onFace = false;   ///< closest feature is the triangle's interior
+};
+
+/// Point p against triangle (a, b, c), all at the end of the substep. Fills `out.contact`'s
+/// normal, barycentric, surfacePoint (the closest point) and thickness; the caller sets kind,
+/// point, other, source and surfaceVelocity. Returns false when out of reach.
+bool pointTriangleContact(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double side,
+  double thickness, double queryRadius, ContactCandidate& out);
+
+/// Particle sphere against particle sphere: centres p (the contact's point) and q (the other).
+/// `fallback` is the direction used when the centres coincide (the start offset, else +z).
+bool pointPointContact(const Vec3& p, const Vec3& q, const Vec3& fallback, double thickness,
+  double queryRadius, ContactCandidate& out);
+
+/// Point against the floor half-space (x - origin) . normal >= 0: every point below the
+/// plane or within the query radius above it (the floor has no back side).
+bool pointPlaneContact(const Vec3& p, const Vec3& origin, const Vec3& normal, double thickness,
+  double queryRadius, ContactCandidate& out);
+
+/// The side of a two-sided triangle a point is on: +1 when (p - closest) . normal >= 0, else
+/// -1 (evaluated at the start of the substep, where the point has not yet crossed).
+double triangleSide(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+} // namespace softbody

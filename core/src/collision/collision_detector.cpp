@@ -1,0 +1,483 @@
+// Detection = the floor, the obstacles, the bodies against each other and themselves, point by
+// point: each colliding point gathers its own contacts (the broad phase proposes, the narrow
+// phase decides, narrow_phase.h), so the loop over points is parallel without shared writes,
+// and the per-point lists are concatenated in point order: the same set, in the same order,
+// at any thread count and for every broad phase.
+#include "softbody/collision/collision_detector.h"
+
+#include "softbody/collision/narrow_phase.h"
+#include "softbody/common/errors.h"
+#include "softbody/common/parallel.h"
+#include "softbody/common/validation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <tuple>
+
+namespace softbody
+{
+
+struct CollisionDetector::Candidates
+{
+  std::vector<ContactCandidate> found;
+  std::size_t examined = 0; ///< pairs the narrow phase looked at
+};
+
+namespace
+{
+
+std::string indexText(std::size_t index)
+{
+  return std::to_string(index);
+}
+
+void validateGeometry(const CollisionGeometry& g)
+{
+  const std::size_t n = g.rest.size();
+  if (g.bodyOf.size() != n || g.radius.size() != n)
+  {
+    throw InvalidInputError("Collision geometry: " + indexText(n) + " rest positions but " +
+      indexText(g.bodyOf.size()) + " body indices and " + indexText(g.radius.size()) + " radii.");
+  }
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    check::finite("Collision geometry rest position", g.rest[i]);
+    if (!std::isfinite(g.radius[i]) || g.radius[i] < 0.0)
+    {
+      throw InvalidInputError("Collision geometry: the radius of point " + indexText(i) +
+        " must be >= 0, got " + check::quote(g.radius[i]) + ".");
+    }
+  }
+  auto checkIndex = [n](std::int32_t index, const char* what) {
+    if (index < 0 || static_cast<std::size_t>(index) >= n)
+    {
+      throw InvalidInputError(std::string("Collision geometry: ") + what + " index " +
+        std::to_string(index) + " is out of range [0, " + indexText(n) + ").");
+    }
+  };
+  for (const auto& triangle : g.surfaceTriangles)
+  {
+    for (std::int32_t v : triangle)
+    {
+      checkIndex(v, "surface triangle vertex");
+    }
+  }
+  for (std::int32_t p : g.collidingPoints)
+  {
+    checkIndex(p, "colliding point");
+  }
+  if (!g.twoSided.empty() && g.twoSided.size() != g.surfaceTriangles.size())
+  {
+    throw InvalidInputError("Collision geometry: " + indexText(g.twoSided.size()) +
+      " two-sided flags for " + indexText(g.surfaceTriangles.size()) + " surface triangles.");
+  }
+}
+
+/// CollisionMargin = 0: a tenth of the mean surface edge length where there are surface
+/// triangles, a tenth of the mean particle radius where there are particles (the smaller of
+/// the two when both), so the gap kept between touching things stays small against the
+/// bodies' own scale. (A margin of a whole radius, as first planned, would keep particles
+/// two radii off the floor: visibly floating.)
+double automaticMargin(const CollisionGeometry& g)
+{
+  double edgeSum = 0.0;
+  std::size_t edges = 0;
+  for (const auto& t : g.surfaceTriangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      edgeSum += (g.rest[t[(k + 1) % 3]] - g.rest[t[k]]).norm();
+      ++edges;
+    }
+  }
+  double radiusSum = 0.0;
+  std::size_t particles = 0;
+  for (std::int32_t p : g.collidingPoints)
+  {
+    if (g.radius[p] > 0.0)
+    {
+      radiusSum += g.radius[p];
+      ++particles;
+    }
+  }
+  double margin = 0.0;
+  if (edges > 0)
+  {
+    margin = 0.1 * edgeSum / static_cast<double>(edges);
+  }
+  if (particles > 0)
+  {
+    const double fromRadius = 0.1 * radiusSum / static_cast<double>(particles);
+    margin = edges > 0 ? std::min(margin, fromRadius) : fromRadius;
+  }
+  return margin;
+}
+
+/// The order of ContactSet: point, kind, source, then the other points (or triangle).
+bool contactBefore(const Contact& x, const Contact& y)
+{
+  return std::tie(x.point, x.kind, x.source, x.other) < std::tie(y.point, y.kind, y.source, y.other);
+}
+
+/// One point's candidates -> its contacts. Against one closed surface a point near an edge or
+/// corner finds that feature through every triangle sharing it; one contact per feature is
+/// wanted (twice the constraint would mean twice the friction). Per (kind, source): every
+/// contact on a face is kept (a point in a concave corner touches both faces), and of the
+/// others only the nearest, when it is the nearest of the group (a convex edge or corner).
+/// Ties go to the smaller triangle so the choice does not depend on the candidates' order.
+void reduceCandidates(std::vector<ContactCandidate>& found, ContactSet& out)
+{
+  std::sort(found.begin(), found.end(), [](const ContactCandidate& x, const ContactCandidate& y) {
+    return contactBefore(x.contact, y.contact);
+  });
+  for (std::size_t begin = 0; begin < found.size();)
+  {
+    std::size_t end = begin + 1;
+    while (end < found.size() && found[end].contact.kind == found[begin].contact.kind &&
+      found[end].contact.source == found[begin].contact.source)
+    {
+      ++end;
+    }
+    if (found[begin].contact.kind == ContactKind::PointPoint)
+    {
+      for (std::size_t k = begin; k < end; ++k)
+      {
+        out.push_back(found[k].contact);
+      }
+    }
+    else
+    {
+      std::size_t nearest = begin;
+      for (std::size_t k = begin + 1; k < end; ++k)
+      {
+        if (found[k].distance < found[nearest].distance)
+        {
+          nearest = k; // strict: ties keep the earlier (smaller) triangle
+        }
+      }
+      for (std::size_t k = begin; k < end; ++k)
+      {
+        if (found[k].onFace || k == nearest)
+        {
+          out.push_back(found[k].contact);
+        }
+      }
+    }
+    begin = end;
+  }
+}
+
+} // namespace
+
+CollisionDetector::CollisionDetector(CollisionGeometry geometry, const CollisionSettings& settings,
+  bool floorEnabled, const FloorPlane& floor)
+  : Geometry(std::move(geometry))
+  , Settings(settings)
+  , FloorEnabled(floorEnabled)
+  , Floor(floor)
+{
+  check::nonNegative("CollisionMargin", Settings.margin, " m", "automatic");
+  check::nonNegative("StaticFriction", Settings.staticFriction);
+  check::nonNegative("DynamicFriction", Settings.dynamicFriction);
+  check::inRange("Restitution", Settings.restitution, 0.0, 1.0);
+  if (FloorEnabled)
+  {
+    check::nonZeroDirection("FloorNormal", Floor.normal);
+    check::finite("FloorOrigin", Floor.origin);
+    Floor.normal.normalize();
+  }
+  validateGeometry(Geometry);
+
+  Colliding = Geometry.collidingPoints;
+  std::sort(Colliding.begin(), Colliding.end());
+  Colliding.erase(std::unique(Colliding.begin(), Colliding.end()), Colliding.end());
+  TriangleBody.reserve(Geometry.surfaceTriangles.size());
+  for (const auto& t : Geometry.surfaceTriangles)
+  {
+    TriangleBody.push_back(Geometry.bodyOf[t[0]]);
+  }
+  Margin = Settings.margin > 0.0 ? Settings.margin : automaticMargin(Geometry);
+  Stats.broadPhase = BroadPhase::BruteForce;
+}
+
+void CollisionDetector::setObstacles(std::vector<ObstacleSurface> obstacles, double endTime)
+{
+  if (!std::isfinite(endTime))
+  {
+    throw InvalidInputError("Obstacle end time must be finite, got " + check::quote(endTime) + ".");
+  }
+  for (std::size_t o = 0; o < obstacles.size(); ++o)
+  {
+    const ObstacleSurface& surface = obstacles[o];
+    const std::string name = "Obstacle " + indexText(o);
+    for (const Vec3& v : surface.vertices)
+    {
+      if (!v.allFinite())
+      {
+        throw InvalidInputError(name + " has a vertex that is not finite: " + check::quote(v) + ".");
+      }
+    }
+    if (!surface.velocities.empty() && surface.velocities.size() != surface.vertices.size())
+    {
+      throw InvalidInputError(name + " has " + indexText(surface.velocities.size()) +
+        " velocities for " + indexText(surface.vertices.size()) +
+        " vertices (give none for a static obstacle, or one per vertex).");
+    }
+    for (const Vec3& v : surface.velocities)
+    {
+      if (!v.allFinite())
+      {
+        throw InvalidInputError(name + " has a velocity that is not finite: " + check::quote(v) + ".");
+      }
+    }
+    for (const auto& triangle : surface.triangles)
+    {
+      for (std::int32_t index : triangle)
+      {
+        if (index < 0 || static_cast<std::size_t>(index) >= surface.vertices.size())
+        {
+          throw InvalidInputError(name + " has a triangle with vertex index " +
+            std::to_string(index) + ", out of range [0, " + indexText(surface.vertices.size()) + ").");
+        }
+      }
+    }
+  }
+  Obstacles = std::move(obstacles);
+  ObstacleEndTime = endTime;
+}
+
+bool CollisionDetector::detectsBodies() const
+{
+  return Settings.mode == CollisionMode::ObstaclesAndBodies ||
+    Settings.mode == CollisionMode::ObstaclesBodiesAndSelf;
+}
+
+bool CollisionDetector::detectsSelf() const
+{
+  return Settings.mode == CollisionMode::ObstaclesBodiesAndSelf;
+}
+
+void CollisionDetector::prepareSubstep(
+  const std::vector<Vec3>& start, const std::vector<Vec3>& predicted, double time, double h)
+{
+  const std::size_t n = Geometry.rest.size();
+  Displacement.resize(n);
+  parallelFor(n, 4096, [&](std::size_t i) { Displacement[i] = (predicted[i] - start[i]).norm(); });
+  const auto& triangles = Geometry.surfaceTriangles;
+  TriangleReach.resize(triangles.size());
+  parallelFor(triangles.size(), 4096, [&](std::size_t t) {
+    TriangleReach[t] = std::max(
+      { Displacement[triangles[t][0]], Displacement[triangles[t][1]], Displacement[triangles[t][2]] });
+  });
+  // Obstacles at the end of the substep, t = time + h: x = vertices + (t - endTime) velocities.
+  const double end = time + h;
+  ObstacleNow.resize(Obstacles.size());
+  ObstacleReach.resize(Obstacles.size());
+  for (std::size_t o = 0; o < Obstacles.size(); ++o)
+  {
+    const ObstacleSurface& surface = Obstacles[o];
+    ObstacleNow[o] = surface.vertices;
+    ObstacleReach[o].assign(surface.triangles.size(), 0.0);
+    if (surface.velocities.empty())
+    {
+      continue;
+    }
+    for (std::size_t v = 0; v < surface.vertices.size(); ++v)
+    {
+      ObstacleNow[o][v] += (end - ObstacleEndTime) * surface.velocities[v];
+    }
+    for (std::size_t t = 0; t < surface.triangles.size(); ++t)
+    {
+      double reach = 0.0;
+      for (std::int32_t v : surface.triangles[t])
+      {
+        reach = std::max(reach, surface.velocities[v].norm() * std::abs(h));
+      }
+      ObstacleReach[o][t] = reach;
+    }
+  }
+}
+
+void CollisionDetector::testObstacleTriangle(std::int32_t point, std::size_t obstacle,
+  std::size_t triangle, const std::vector<Vec3>& predicted, Candidates& candidates) const
+{
+  ++candidates.examined;
+  const auto& t = Obstacles[obstacle].triangles[triangle];
+  const auto& x = ObstacleNow[obstacle];
+  const double thickness = Geometry.radius[point] + Margin;
+  const double query = thickness + Displacement[point] + ObstacleReach[obstacle][triangle];
+  ContactCandidate c;
+  if (!pointTriangleContact(predicted[point], x[t[0]], x[t[1]], x[t[2]], 1.0, thickness, query, c))
+  {
+    return;
+  }
+  c.contact.kind = ContactKind::Obstacle;
+  c.contact.point = point;
+  c.contact.other = { static_cast<std::int32_t>(triangle), -1, -1 };
+  c.contact.source = static_cast<std::int32_t>(obstacle);
+  const auto& velocities = Obstacles[obstacle].velocities;
+  if (!velocities.empty())
+  {
+    c.contact.surfaceVelocity = c.contact.barycentric[0] * velocities[t[0]] +
+      c.contact.barycentric[1] * velocities[t[1]] + c.contact.barycentric[2] * velocities[t[2]];
+  }
+  candidates.found.push_back(c);
+}
+
+void CollisionDetector::testPointPoint(std::int32_t point, std::int32_t other,
+  const std::vector<Vec3>& start, const std::vector<Vec3>& predicted, Candidates& candidates) const
+{
+  const double radii = Geometry.radius[point] + Geometry.radius[other];
+  if (!(radii > 0.0))
+  {
+    return; // two surface vertices meet through their triangles, not as points
+  }
+  const bool sameBody = Geometry.bodyOf[point] == Geometry.bodyOf[other];
+  if (sameBody ? !detectsSelf() : !detectsBodies())
+  {
+    return;
+  }
+  const double thickness = radii + Margin;
+  // Rest filter: particles of one body that are within reach at rest (lattice neighbours)
+  // are held by the body's own constraints, not by contacts.
+  if (sameBody && (Geometry.rest[point] - Geometry.rest[other]).norm() <= thickness)
+  {
+    return;
+  }
+  ++candidates.examined;
+  const double query = thickness + Displacement[point] + Displacement[other];
+  ContactCandidate c;
+  if (!pointPointContact(predicted[point], predicted[other], start[point] - start[other], thickness, query, c))
+  {
+    return;
+  }
+  c.contact.kind = ContactKind::PointPoint;
+  c.contact.point = point;
+  c.contact.other = { other, -1, -1 };
+  c.contact.source = Geometry.bodyOf[other];
+  candidates.found.push_back(c);
+}
+
+void CollisionDetector::testPointTriangle(std::int32_t point, std::size_t triangle,
+  const std::vector<Vec3>& start, const std::vector<Vec3>& predicted, Candidates& candidates) const
+{
+  const auto& t = Geometry.surfaceTriangles[triangle];
+  if (t[0] == point || t[1] == point || t[2] == point)
+  {
+    return;
+  }
+  const bool sameBody = Geometry.bodyOf[point] == TriangleBody[triangle];
+  if (sameBody ? !detectsSelf() : !detectsBodies())
+  {
+    return;
+  }
+  const double thickness = Geometry.radius[point] + Margin;
+  const auto& rest = Geometry.rest;
+  // Rest filter: a vertex within reach of its own surface at rest (a neighbour across a
+  // short edge) would be in contact from the first step on.
+  if (sameBody &&
+    (rest[point] - closestPointOnTriangle(rest[point], rest[t[0]], rest[t[1]], rest[t[2]]).point).norm() <= thickness)
+  {
+    return;
+  }
+  ++candidates.examined;
+  const double query = thickness + Displacement[point] + TriangleReach[triangle];
+  const double side = !Geometry.twoSided.empty() && Geometry.twoSided[triangle]
+    ? triangleSide(start[point], start[t[0]], start[t[1]], start[t[2]])
+    : 1.0;
+  ContactCandidate c;
+  if (!pointTriangleContact(predicted[point], predicted[t[0]], predicted[t[1]], predicted[t[2]], side, thickness, query, c))
+  {
+    return;
+  }
+  c.contact.kind = ContactKind::PointTriangle;
+  c.contact.point = point;
+  c.contact.other = t;
+  c.contact.source = TriangleBody[triangle];
+  c.contact.surfacePoint = Vec3::Zero(); // moves with the body: see barycentric and other
+  candidates.found.push_back(c);
+}
+
+void CollisionDetector::collectBruteForce(std::size_t colliding, const std::vector<Vec3>& start,
+  const std::vector<Vec3>& predicted, Candidates& candidates) const
+{
+  const std::int32_t point = Colliding[colliding];
+  for (std::size_t o = 0; o < Obstacles.size(); ++o)
+  {
+    for (std::size_t t = 0; t < Obstacles[o].triangles.size(); ++t)
+    {
+      testObstacleTriangle(point, o, t, predicted, candidates);
+    }
+  }
+  if (!detectsBodies())
+  {
+    return;
+  }
+  // Each pair of points once, at its smaller point.
+  for (std::size_t k = colliding + 1; k < Colliding.size(); ++k)
+  {
+    testPointPoint(point, Colliding[k], start, predicted, candidates);
+  }
+  for (std::size_t t = 0; t < Geometry.surfaceTriangles.size(); ++t)
+  {
+    testPointTriangle(point, t, start, predicted, candidates);
+  }
+}
+
+void CollisionDetector::detect(const std::vector<Vec3>& start, const std::vector<Vec3>& predicted,
+  double time, double h, ContactSet& out)
+{
+  out.clear();
+  Stats = DetectionStats{};
+  Stats.broadPhase = BroadPhase::BruteForce;
+  if (start.size() != Geometry.rest.size() || predicted.size() != Geometry.rest.size())
+  {
+    throw InvalidInputError("Collision detection: " + indexText(start.size()) + " start and " +
+      indexText(predicted.size()) + " predicted positions for " + indexText(Geometry.rest.size()) + " points.");
+  }
+  if (Settings.mode == CollisionMode::Off)
+  {
+    return;
+  }
+  prepareSubstep(start, predicted, time, h);
+
+  std::vector<ContactSet> perPoint(Colliding.size());
+  std::vector<std::size_t> examined(Colliding.size(), 0);
+  parallelFor(Colliding.size(), 64, [&](std::size_t k) {
+    const std::int32_t point = Colliding[k];
+    Candidates candidates;
+    if (FloorEnabled)
+    {
+      ++candidates.examined;
+      const double thickness = Geometry.radius[point] + Margin;
+      ContactCandidate c;
+      if (pointPlaneContact(predicted[point], Floor.origin, Floor.normal, thickness,
+            thickness + Displacement[point], c))
+      {
+        c.contact.kind = ContactKind::Obstacle;
+        c.contact.point = point;
+        c.contact.source = -1;
+        candidates.found.push_back(c);
+      }
+    }
+    collectBruteForce(k, start, predicted, candidates);
+    reduceCandidates(candidates.found, perPoint[k]);
+    examined[k] = candidates.examined;
+  });
+
+  std::size_t total = 0;
+  for (std::size_t k = 0; k < Colliding.size(); ++k)
+  {
+    total += perPoint[k].size();
+    Stats.candidatePairs += examined[k];
+  }
+  out.reserve(total);
+  for (const ContactSet& contacts : perPoint)
+  {
+    out.insert(out.end(), contacts.begin(), contacts.end());
+  }
+  Stats.contacts = out.size();
+}
+
+} // namespace softbody
