@@ -10,15 +10,20 @@
 #include "softbody/mesh/components.h"
 
 #include <algorithm>
+#include <numeric>
 
 
 namespace softbody
 {
 namespace
 {
-/// What the detector collides of a tet body: its boundary triangles (outward), their vertices
-/// as the colliding points, each point's connected body; no particles (radius 0).
-CollisionGeometry tetBodyGeometry(const TetMesh& mesh)
+/// What the detector collides of a tet body: its boundary triangles (outward), each point's
+/// connected body; no particles (radius 0). The colliding points are all points, so that a
+/// body crushed through its own bottom (a very soft one, a fast impact) still keeps every
+/// point out of the floor and the obstacles, as the floor pass before did; with self
+/// collisions only the surface vertices, since an interior point lies behind its own
+/// surface's one-sided triangles and would be pushed out through them.
+CollisionGeometry tetBodyGeometry(const TetMesh& mesh, CollisionMode mode)
 {
   CollisionGeometry g;
   g.rest = mesh.points;
@@ -51,6 +56,12 @@ CollisionGeometry tetBodyGeometry(const TetMesh& mesh)
     body = body < 0 ? next++ : body;
   }
   g.surfaceTriangles = boundaryTriangles(mesh.tets);
+  if (mode != CollisionMode::ObstaclesBodiesAndSelf)
+  {
+    g.collidingPoints.resize(mesh.points.size());
+    std::iota(g.collidingPoints.begin(), g.collidingPoints.end(), 0);
+    return g;
+  }
   for (const auto& triangle : g.surfaceTriangles)
   {
     g.collidingPoints.insert(g.collidingPoints.end(), triangle.begin(), triangle.end());
@@ -107,7 +118,7 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
   {
     // The implicit integrators hold the floor inside their solve; the detector gets it only
     // for the explicit ones. Throws InvalidInputError for a bad margin, friction, restitution.
-    Detector = std::make_unique<CollisionDetector>(tetBodyGeometry(Mesh), Scene.collisions,
+    Detector = std::make_unique<CollisionDetector>(tetBodyGeometry(Mesh, Scene.collisions.mode), Scene.collisions,
       Scene.floorEnabled && !isImplicit(Scene.integrator), Scene.floor);
   }
   if (Scene.integrator == Integrator::ImplicitEuler)
