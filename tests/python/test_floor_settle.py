@@ -54,7 +54,9 @@ sbt.check(np.allclose(u, x - x0, atol=1e-9), "Displacement = current - rest posi
 sbt.check(x[:, 2].min() >= -floor_tolerance,
           f"every point is above the floor z = 0 within {floor_tolerance:.1e} m "
           f"(lowest {x[:, 2].min():.2e} m)")
-sbt.check(x[:, 2].min() <= 0.01 * size, "the body rests on the floor (lowest point touches it)")
+# Touching means within the contact margin: automatic, a tenth of the mean surface edge length
+# (3.7 mm for the jelly, 1.2 % of its size).
+sbt.check(x[:, 2].min() <= 0.02 * size, "the body rests on the floor (lowest point touches it)")
 sbt.check(com0[2] - com[2] > 0.8 * drop,
           f"the center of mass came down by about the drop height {drop:.3f} m "
           f"({com0[2] - com[2]:.3f} m)")

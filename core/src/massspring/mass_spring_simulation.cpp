@@ -121,14 +121,21 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
     Detector = std::make_unique<CollisionDetector>(tetBodyGeometry(Mesh, Scene.collisions.mode), Scene.collisions,
       Scene.floorEnabled && !isImplicit(Scene.integrator), Scene.floor);
   }
+  // A contact keeps the collision margin, the floor's too: the implicit solve holds points on
+  // the plane lifted by it, so every integrator rests at the same height.
+  SceneSettings solveScene = Scene;
+  if (Detector && solveScene.floorEnabled)
+  {
+    solveScene.floor.origin += Detector->margin() * solveScene.floor.normal;
+  }
   if (Scene.integrator == Integrator::ImplicitEuler)
   {
-    Newton = std::make_unique<ImplicitEulerStepper>(Topo, Constants, Masses, Scene);
+    Newton = std::make_unique<ImplicitEulerStepper>(Topo, Constants, Masses, solveScene);
   }
   else if (Scene.integrator == Integrator::ProjectiveDynamics)
   {
     Projective =
-      std::make_unique<ProjectiveDynamicsStepper>(Topo, Constants, Masses, Mesh.points, Scene);
+      std::make_unique<ProjectiveDynamicsStepper>(Topo, Constants, Masses, Mesh.points, solveScene);
   }
 }
 
