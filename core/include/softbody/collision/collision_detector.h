@@ -9,6 +9,9 @@
 #include "softbody/collision/collision_settings.h"
 #include "softbody/collision/contact.h"
 #include "softbody/collision/obstacle.h"
+#include "softbody/collision/point_octree.h"
+#include "softbody/collision/triangle_bvh.h"
+#include "softbody/collision/uniform_grid.h"
 #include "softbody/common/floor_plane.h"
 
 #include <array>
@@ -74,7 +77,11 @@ public:
 private:
   struct Candidates; // one point's narrow-phase results (collision_detector.cpp)
   void prepareSubstep(const std::vector<Vec3>& start, const std::vector<Vec3>& predicted, double time, double h);
+  BroadPhase resolveBroadPhase() const;
+  void prepareBroadPhase(BroadPhase kind, const std::vector<Vec3>& predicted);
   void collectBruteForce(std::size_t colliding, const std::vector<Vec3>& start,
+    const std::vector<Vec3>& predicted, Candidates& candidates) const;
+  void collectAccelerated(BroadPhase kind, std::size_t colliding, const std::vector<Vec3>& start,
     const std::vector<Vec3>& predicted, Candidates& candidates) const;
   void testObstacleTriangle(std::int32_t point, std::size_t obstacle, std::size_t triangle,
     const std::vector<Vec3>& predicted, Candidates& candidates) const;
@@ -93,6 +100,20 @@ private:
   std::vector<double> TriangleReach;      ///< largest corner displacement per surface triangle [m]
   std::vector<std::vector<Vec3>> ObstacleNow; ///< obstacle vertices at the end of the substep
   std::vector<std::vector<double>> ObstacleReach; ///< largest corner displacement per obstacle triangle [m]
+  bool HasParticles = false;              ///< some colliding point has a radius (point-point pairs exist)
+  // Broad phases (all but BruteForce): points in a grid or an octree, triangles in BVHs.
+  UniformGrid Grid;
+  PointOctree Octree;
+  std::vector<Vec3> CollidingPositions;   ///< predicted positions of Colliding
+  std::vector<double> CollidingReach;     ///< r + displacement + margin / 2: pairs within the sum
+  TriangleBvh SurfaceBvh;
+  TriangleBvh ObstacleBvh;
+  bool SurfaceBvhBuilt = false;
+  bool ObstacleBvhBuilt = false;
+  std::vector<std::array<std::int32_t, 2>> ObstacleItems; ///< (obstacle, triangle) per obstacle BVH item
+  std::vector<Aabb> ItemBoxes;            ///< scratch for the BVH refits
+  std::vector<ContactSet> BlockContacts;  ///< per block of points, kept between detections
+  std::vector<std::size_t> BlockExamined;
 
   CollisionSettings Settings;
   bool FloorEnabled = false;

@@ -1,0 +1,187 @@
+// The uniform-grid broad phase for points: a counting-sort grid (Teschner et al. 2003,
+// "Optimized Spatial Hashing for Collision Detection of Deformable Objects"; Green 2008,
+// "Particle Simulation using CUDA"). Each point's cell gets a bucket, the points are
+// counting-sorted by bucket (histogram, prefix sums, scatter), and what a query reads
+// (position, reach, index) is copied into that order, so a query reads contiguous memory.
+//
+// Buckets: where the points' bounding box has few enough cells (at most kDenseCellsPerPoint
+// per point), the bucket is the cell's linear index in the box: no two cells share a bucket.
+// Otherwise (points spread far apart) the cell is hashed, bucket = (ix + H(iy, iz)) mod size,
+// which still keeps consecutive x cells in consecutive buckets. Either way a query reads the
+// 3 x 3 x 3 neighbourhood as 9 runs of 3 buckets: 9 ranges of the sorted entries rather than 27
+// lookups. Cells sharing a hash bucket only add candidates the distance test rejects; a bucket
+// two runs share is read once, so no point is visited twice.
+#pragma once
+
+#include "softbody/common/geometry.h"
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace softbody
+{
+
+class UniformGrid
+{
+public:
+  /// The dense layout is used up to this many cells per point (the prefix sums cost 4 bytes
+  /// per cell).
+  static constexpr std::uint64_t kDenseCellsPerPoint = 8;
+
+  /// Sorts items 0..n-1 (positions, reaches) into cells of `cellSize`, which must be at least
+  /// twice the largest reach so that every pair within reach_i + reach_j is in neighbouring
+  /// cells. Deterministic: the sort is stable, items of one bucket stay in index order.
+  void build(const std::vector<Vec3>& positions, const std::vector<double>& reaches, double cellSize);
+
+  /// visit(item) for every item j > `after` with |p - x_j| <= reach + reach_j, each once (pass
+  /// -1 for all items; a point querying with its own index finds each pair once). A few
+  /// farther items may be visited too (reaches are stored in single precision, rounded up):
+  /// the caller's exact test decides.
+  template <typename Visit>
+  void forEachNear(const Vec3& p, double reach, std::int32_t after, const Visit& visit) const;
+
+  bool dense() const { return Dense; }
+
+private:
+  std::int64_t cellOf(double coordinate) const
+  {
+    const double scaled = coordinate * InverseCell;
+    const auto cell = static_cast<std::int64_t>(scaled); // truncates toward zero: floor below
+    return cell - (scaled < static_cast<double>(cell) ? 1 : 0);
+  }
+  std::uint64_t hashedBucket(std::int64_t ix, std::int64_t iy, std::int64_t iz) const
+  {
+    const std::uint64_t row = static_cast<std::uint64_t>(iy) * 73856093ull ^ static_cast<std::uint64_t>(iz) * 19349663ull;
+    return (static_cast<std::uint64_t>(ix) + row) & Mask;
+  }
+  template <typename Scan>
+  void scanDense(std::int64_t ix, std::int64_t iy, std::int64_t iz, const Scan& scan) const;
+  template <typename Scan>
+  void scanHashed(std::int64_t ix, std::int64_t iy, std::int64_t iz, const Scan& scan) const;
+
+  /// One sorted item: what a query reads, in 32 bytes (two per cache line).
+  struct Entry
+  {
+    Vec3 position;
+    float reach = 0.0f; ///< rounded up to single precision (a conservative filter)
+    std::int32_t item = 0;
+  };
+
+  double InverseCell = 1.0;
+  bool Dense = false;
+  std::int64_t Origin[3] = { 0, 0, 0 }; ///< dense: the box's first cell
+  std::int64_t Cells[3] = { 0, 0, 0 };  ///< dense: cells per axis
+  std::uint64_t Mask = 0;               ///< hashed: table size - 1
+  std::vector<std::uint32_t> BucketStart; ///< prefix sums: bucket b holds [start[b], start[b+1])
+  std::vector<Entry> Entries;             ///< items sorted by bucket (stable: ascending in each)
+  std::vector<std::int64_t> ScratchCells;
+  std::vector<std::uint32_t> ScratchBuckets;
+  std::vector<std::int32_t> ScratchItems;
+  std::vector<std::uint32_t> ScratchNext;
+};
+
+template <typename Scan>
+void UniformGrid::scanDense(std::int64_t ix, std::int64_t iy, std::int64_t iz, const Scan& scan) const
+{
+  // Cells outside the box hold nothing: clamp the runs, skip the rows.
+  const std::int64_t x0 = std::max<std::int64_t>(ix - 1 - Origin[0], 0);
+  const std::int64_t x1 = std::min<std::int64_t>(ix + 1 - Origin[0], Cells[0] - 1);
+  if (x0 > x1)
+  {
+    return;
+  }
+  for (std::int64_t z = iz - 1 - Origin[2]; z <= iz + 1 - Origin[2]; ++z)
+  {
+    if (z < 0 || z >= Cells[2])
+    {
+      continue;
+    }
+    for (std::int64_t y = iy - 1 - Origin[1]; y <= iy + 1 - Origin[1]; ++y)
+    {
+      if (y < 0 || y >= Cells[1])
+      {
+        continue;
+      }
+      const auto row = static_cast<std::uint64_t>((z * Cells[1] + y) * Cells[0]);
+      scan(BucketStart[row + static_cast<std::uint64_t>(x0)], BucketStart[row + static_cast<std::uint64_t>(x1) + 1]);
+    }
+  }
+}
+
+template <typename Scan>
+void UniformGrid::scanHashed(std::int64_t ix, std::int64_t iy, std::int64_t iz, const Scan& scan) const
+{
+  // Two runs share a bucket only when their starts are less than 3 apart (modulo the table):
+  // rare, so each run is compared with the earlier ones and read as one range unless it
+  // clashes or wraps; then bucket by bucket, skipping those an earlier run already read.
+  // (Sorting the runs instead was a third of the query's time.)
+  const std::uint64_t size = Mask + 1;
+  std::uint64_t first[9];
+  int runs = 0;
+  for (std::int64_t dz = -1; dz <= 1; ++dz)
+  {
+    for (std::int64_t dy = -1; dy <= 1; ++dy)
+    {
+      const std::uint64_t start = hashedBucket(ix - 1, iy + dy, iz + dz);
+      bool clash = start + 3 > size;
+      for (int q = 0; q < runs; ++q)
+      {
+        const std::uint64_t apart = (start - first[q]) & Mask;
+        clash = clash || apart < 3 || apart > size - 3;
+      }
+      if (!clash)
+      {
+        scan(BucketStart[start], BucketStart[start + 3]);
+      }
+      else
+      {
+        for (std::uint64_t t = 0; t < 3; ++t)
+        {
+          const std::uint64_t bucket = (start + t) & Mask;
+          bool seen = false;
+          for (int q = 0; q < runs; ++q)
+          {
+            seen = seen || ((bucket - first[q]) & Mask) < 3;
+          }
+          if (!seen)
+          {
+            scan(BucketStart[bucket], BucketStart[bucket + 1]);
+          }
+        }
+      }
+      first[runs++] = start;
+    }
+  }
+}
+
+template <typename Visit>
+void UniformGrid::forEachNear(const Vec3& p, double reach, std::int32_t after, const Visit& visit) const
+{
+  if (Entries.empty())
+  {
+    return;
+  }
+  auto scan = [&](std::uint32_t s, std::uint32_t e) {
+    for (; s < e; ++s)
+    {
+      const Entry& entry = Entries[s];
+      const double within = reach + static_cast<double>(entry.reach);
+      if (entry.item > after && (entry.position - p).squaredNorm() <= within * within)
+      {
+        visit(entry.item);
+      }
+    }
+  };
+  const std::int64_t ix = cellOf(p.x()), iy = cellOf(p.y()), iz = cellOf(p.z());
+  if (Dense)
+  {
+    scanDense(ix, iy, iz, scan);
+  }
+  else
+  {
+    scanHashed(ix, iy, iz, scan);
+  }
+}
+
+} // namespace softbody

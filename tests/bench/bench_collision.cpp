@@ -1,0 +1,211 @@
+// Collision detection (broad + narrow phase, one CollisionDetector::detect call), after the
+// PBD thesis's figures:
+//
+// 1. Figure 5.1: time per detection of each broad phase (brute force, uniform grid, octree) at
+//    8,000 particles settled in a box (a packed lattice) and in a pile (a cone), at 1 and all
+//    threads, with the ratio grid vs brute force measured in the same run.
+// 2. Figure 5.2: the uniform grid at 1 thread against all threads from 500 to 20,000
+//    particles, extended to 100,000 and 1,000,000, with the speed-up.
+// 3. The crossover that sets BroadPhase::Automatic: brute force against the grid on small
+//    scenes, as pair tests per detection.
+//
+// The particles are voxel-like spheres of radius r on a lattice of spacing 2 r (touching), a
+// little jittered, grouped into bodies of 5 x 5 x 5 that collide with each other
+// (ObstaclesAndBodies) and with the floor; each point moved by one substep of free fall from
+// start to predicted. Every time is the minimum over --repeat runs (other processes share the
+// machine), the median beside it.
+//
+// Usage: bench_collision [--smoke] [--csv PATH] [--repeat N]
+#include "bench_options.h"
+
+#include "softbody/collision/collision_detector.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <string>
+
+using namespace softbody;
+
+namespace
+{
+
+constexpr double kRadius = 0.005; // [m]
+constexpr double kStep = 0.005;   // substep [s]
+
+struct ParticleScene
+{
+  CollisionGeometry geometry;
+  std::vector<Vec3> start, predicted;
+};
+
+/// About `count` particles: a cube lattice ("box") or the lattice points under a cone
+/// ("pile"), jittered by 5 % of the spacing; bodies of 5 x 5 x 5 lattice cells.
+ParticleScene particleScene(std::size_t count, bool pile)
+{
+  ParticleScene scene;
+  const double spacing = 2.0 * kRadius;
+  // A cone of height H over radius H holds pi/3 H^3 cells per spacing^3: size the lattice so
+  // the kept points number about `count`.
+  const double cells = pile ? std::cbrt(static_cast<double>(count) * 3.0 / (3.14159265358979 / 3.0) / 4.0)
+                            : std::cbrt(static_cast<double>(count));
+  const int n = std::max(1, static_cast<int>(std::ceil(pile ? 2.0 * cells : cells)));
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> jitter(-0.05 * spacing, 0.05 * spacing);
+  for (int k = 0; k < n && scene.geometry.rest.size() < count; ++k)
+  {
+    for (int j = 0; j < n && scene.geometry.rest.size() < count; ++j)
+    {
+      for (int i = 0; i < n && scene.geometry.rest.size() < count; ++i)
+      {
+        if (pile)
+        {
+          const double dx = i - 0.5 * n, dy = j - 0.5 * n;
+          if (std::sqrt(dx * dx + dy * dy) > 0.5 * n - k)
+          {
+            continue;
+          }
+        }
+        const Vec3 p = Vec3(i, j, k) * spacing + Vec3(0, 0, kRadius) + Vec3(jitter(rng), jitter(rng), jitter(rng));
+        scene.geometry.collidingPoints.push_back(static_cast<std::int32_t>(scene.geometry.rest.size()));
+        scene.geometry.rest.push_back(p);
+        scene.geometry.bodyOf.push_back((i / 5) + 1000 * ((j / 5) + 1000 * (k / 5)));
+        scene.geometry.radius.push_back(kRadius);
+      }
+    }
+  }
+  scene.start = scene.geometry.rest;
+  scene.predicted = scene.start;
+  for (Vec3& p : scene.predicted)
+  {
+    p.z() -= 9.81 * kStep * kStep;
+  }
+  return scene;
+}
+
+struct Timing
+{
+  double minMs = 0.0;
+  double medianMs = 0.0;
+  std::size_t contacts = 0;
+  std::size_t pairs = 0;
+};
+
+Timing timeDetection(const ParticleScene& scene, BroadPhase kind, std::size_t threads, int repeat)
+{
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  CollisionSettings settings;
+  settings.mode = CollisionMode::ObstaclesAndBodies;
+  settings.broadPhase = kind;
+  CollisionDetector detector(scene.geometry, settings, true, FloorPlane{});
+  ContactSet contacts;
+  detector.detect(scene.start, scene.predicted, 0.0, kStep, contacts); // warm: first-use allocations
+  std::vector<double> ms;
+  for (int r = 0; r < repeat; ++r)
+  {
+    const auto begin = std::chrono::steady_clock::now();
+    detector.detect(scene.start, scene.predicted, 0.0, kStep, contacts);
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count());
+  }
+  std::sort(ms.begin(), ms.end());
+  return { ms.front(), ms[ms.size() / 2], contacts.size(), detector.stats().candidatePairs };
+}
+
+const char* kindName(BroadPhase kind)
+{
+  switch (kind)
+  {
+    case BroadPhase::BruteForce: return "brute force";
+    case BroadPhase::UniformGrid: return "uniform grid";
+    case BroadPhase::Octree: return "octree";
+    default: return "automatic";
+  }
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  const bench::Options options = bench::parseOptions(argc, argv, "bench_collision", "bench_collision.csv");
+  const int repeat = options.smoke ? 1 : std::max(options.repeat, 5);
+  const auto maxThreads = static_cast<std::size_t>(tbb::info::default_concurrency());
+  std::ofstream csv(options.csv);
+  csv << "figure,scene,particles,broad_phase,threads,ms_min,ms_median,contacts,candidate_pairs\n";
+  auto record = [&](const char* figure, const char* layout, std::size_t n, BroadPhase kind, std::size_t threads, const Timing& t) {
+    csv << figure << ',' << layout << ',' << n << ',' << kindName(kind) << ',' << threads << ',' << t.minMs << ','
+        << t.medianMs << ',' << t.contacts << ',' << t.pairs << '\n';
+  };
+  std::printf("Collision detection (broad + narrow phase), particles of radius %g m touching, %zu threads max,"
+              " min (median) of %d runs\n", kRadius, maxThreads, repeat);
+
+  // 1. Figure 5.1.
+  const std::size_t fig1 = options.smoke ? 1000 : 8000;
+  std::printf("\nFigure 5.1: %zu particles, ms per detection\n", fig1);
+  std::printf("%-6s %-14s %8s %20s %20s %10s %10s\n", "scene", "broad phase", "contacts", "1 thread", "all threads", "2thr/1thr", "vs brute");
+  for (bool pile : { false, true })
+  {
+    const ParticleScene scene = particleScene(fig1, pile);
+    const char* layout = pile ? "pile" : "box";
+    double bruteMs = 0.0;
+    for (BroadPhase kind : { BroadPhase::BruteForce, BroadPhase::UniformGrid, BroadPhase::Octree })
+    {
+      const Timing one = timeDetection(scene, kind, 1, kind == BroadPhase::BruteForce ? std::min(repeat, 2) : repeat);
+      const Timing all = timeDetection(scene, kind, maxThreads, kind == BroadPhase::BruteForce ? std::min(repeat, 2) : repeat);
+      if (kind == BroadPhase::BruteForce)
+      {
+        bruteMs = all.minMs;
+      }
+      else if (one.contacts != timeDetection(scene, BroadPhase::BruteForce, maxThreads, 1).contacts)
+      {
+        std::printf("ERROR: %s found another number of contacts than brute force\n", kindName(kind));
+        return 1;
+      }
+      std::printf("%-6s %-14s %8zu %9.3f (%8.3f) %9.3f (%8.3f) %10.2f %10.1f\n", layout, kindName(kind), one.contacts,
+        one.minMs, one.medianMs, all.minMs, all.medianMs, one.minMs / all.minMs, bruteMs / all.minMs);
+      record("5.1", layout, scene.geometry.rest.size(), kind, 1, one);
+      record("5.1", layout, scene.geometry.rest.size(), kind, maxThreads, all);
+    }
+  }
+
+  // 2. Figure 5.2, extended.
+  const std::vector<std::size_t> sizes = options.smoke
+    ? std::vector<std::size_t>{ 500, 2000 }
+    : std::vector<std::size_t>{ 500, 1000, 2000, 5000, 10000, 20000, 100000, 1000000 };
+  std::printf("\nFigure 5.2: uniform grid, box of particles, ms per detection\n");
+  std::printf("%10s %10s %20s %20s %10s %14s\n", "particles", "contacts", "1 thread", "all threads", "speed-up", "ns/particle");
+  for (std::size_t n : sizes)
+  {
+    const ParticleScene scene = particleScene(n, false);
+    const int runs = n >= 1000000 ? std::max(2, repeat / 2) : repeat;
+    const Timing one = timeDetection(scene, BroadPhase::UniformGrid, 1, runs);
+    const Timing all = timeDetection(scene, BroadPhase::UniformGrid, maxThreads, runs);
+    std::printf("%10zu %10zu %9.3f (%8.3f) %9.3f (%8.3f) %10.2f %14.1f\n", scene.geometry.rest.size(), one.contacts,
+      one.minMs, one.medianMs, all.minMs, all.medianMs, one.minMs / all.minMs,
+      1e6 * all.minMs / static_cast<double>(scene.geometry.rest.size()));
+    record("5.2", "box", scene.geometry.rest.size(), BroadPhase::UniformGrid, 1, one);
+    record("5.2", "box", scene.geometry.rest.size(), BroadPhase::UniformGrid, maxThreads, all);
+  }
+
+  // 3. The Automatic crossover, at all threads.
+  std::printf("\nAutomatic: brute force against the uniform grid on small scenes (all threads)\n");
+  std::printf("%10s %14s %12s %12s %10s\n", "particles", "pair tests", "brute ms", "grid ms", "brute/grid");
+  for (std::size_t n : options.smoke ? std::vector<std::size_t>{ 27, 125 } : std::vector<std::size_t>{ 8, 27, 64, 125, 216, 343, 512, 1000 })
+  {
+    const ParticleScene scene = particleScene(n, false);
+    const Timing brute = timeDetection(scene, BroadPhase::BruteForce, maxThreads, repeat * 4);
+    const Timing grid = timeDetection(scene, BroadPhase::UniformGrid, maxThreads, repeat * 4);
+    const double points = static_cast<double>(scene.geometry.rest.size());
+    std::printf("%10zu %14.0f %12.4f %12.4f %10.2f\n", scene.geometry.rest.size(), points * points, brute.minMs, grid.minMs,
+      brute.minMs / grid.minMs);
+    record("automatic", "box", scene.geometry.rest.size(), BroadPhase::BruteForce, maxThreads, brute);
+    record("automatic", "box", scene.geometry.rest.size(), BroadPhase::UniformGrid, maxThreads, grid);
+  }
+  std::printf("\nCSV: %s\n", options.csv.c_str());
+  return 0;
+}
