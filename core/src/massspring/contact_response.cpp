@@ -89,14 +89,16 @@ bool resolveContact(const Contact& contact, const CollisionSettings& settings,
     relative += t.coefficient[j] * v[t.index[j]];
   }
   const double normalSpeed = n.dot(relative);
-  if (normalSpeed >= 0.0)
-  {
-    return true; // separating already: the projection alone
-  }
-  const double normalChange = -(1.0 + settings.restitution) * normalSpeed;
+  // Restitution acts on an approach; friction on the normal push of the contact: the approach
+  // speed removed, or the penetration removed per unit time where that is larger. The second
+  // is what carries a load between two bodies that fall together (a body resting on another:
+  // both gain g h each step, so their relative approach is nil while the lower one holds the
+  // upper one up through the projection); against a static surface both are g h per step.
+  const double normalChange = normalSpeed < 0.0 ? -(1.0 + settings.restitution) * normalSpeed : 0.0;
+  const double normalPush = std::max(normalChange, -C / h);
   const Vec3 tangential = relative - normalSpeed * n;
   const double slipSpeed = tangential.norm();
-  const bool sticks = slipSpeed <= settings.staticFriction * normalChange;
+  const bool sticks = slipSpeed <= settings.staticFriction * normalPush;
   Vec3 change = normalChange * n;
   if (sticks)
   {
@@ -104,7 +106,7 @@ bool resolveContact(const Contact& contact, const CollisionSettings& settings,
   }
   else
   {
-    change -= std::min(1.0, settings.dynamicFriction * normalChange / slipSpeed) * tangential;
+    change -= std::min(1.0, settings.dynamicFriction * normalPush / slipSpeed) * tangential;
   }
   for (int j = 0; j < t.count; ++j)
   {

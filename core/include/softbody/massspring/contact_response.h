@@ -29,12 +29,14 @@ struct ContactResponseStats
 /// 1. Projection: where C < 0, x_j += c_j w_j (-C / W) n: the closest configuration on the
 ///    constraint, split by inverse mass and barycentric weight (PBD's distance projection);
 ///    positions only, so a removed penetration adds no velocity.
-/// 2. Velocity response, where the contact was penetrating and approaching (v_n < 0, with
-///    v_rel = sum_j c_j v_j - surfaceVelocity): the normal relative speed becomes -e v_n
-///    (restitution e), a change dv_n = (1 + e) |v_n|; the tangential relative velocity v_t
-///    sticks (is cancelled, and so is this step's tangential slip of the positions) while
-///    |v_t| <= staticFriction dv_n, and otherwise slides, losing dynamicFriction dv_n of its
-///    speed (Coulomb). Both are impulses J split like the projection: v_j += c_j w_j J / W.
+/// 2. Velocity response, where the contact was penetrating (v_rel = sum_j c_j v_j -
+///    surfaceVelocity): an approaching normal speed v_n < 0 becomes -e v_n (restitution e), a
+///    change dv_n = (1 + e) |v_n|. Friction acts on the normal push p = max(dv_n, -C / h) (the
+///    penetration removed per unit time carries the load where the approach is nil: a body
+///    resting on another that falls with it): the tangential relative velocity v_t sticks (is
+///    cancelled, and so is this step's tangential slip of the positions) while
+///    |v_t| <= staticFriction p, and otherwise slides, losing dynamicFriction p of its speed
+///    (Coulomb). Both are impulses J split like the projection: v_j += c_j w_j J / W.
 /// On a plane under gravity g at angle theta this gives a sliding acceleration of
 /// g (sin theta - mu_d cos theta) and sticking while tan theta <= mu_s (e = 0).
 ///
