@@ -98,13 +98,14 @@ bool resolveContact(const Contact& contact, const CollisionSettings& settings,
   const double normalPush = std::max(normalChange, -C / h);
   const Vec3 tangential = relative - normalSpeed * n;
   const double slipSpeed = tangential.norm();
-  const bool sticks = slipSpeed <= settings.staticFriction * normalPush;
+  // Without static friction nothing sticks (the slip revert below would be friction).
+  const bool sticks = settings.staticFriction > 0.0 && slipSpeed <= settings.staticFriction * normalPush;
   Vec3 change = normalChange * n;
   if (sticks)
   {
     change -= tangential;
   }
-  else
+  else if (slipSpeed > 0.0)
   {
     change -= std::min(1.0, settings.dynamicFriction * normalPush / slipSpeed) * tangential;
   }

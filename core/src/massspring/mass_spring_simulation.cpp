@@ -73,6 +73,22 @@ CollisionGeometry tetBodyGeometry(const TetMesh& mesh, CollisionMode mode)
 }
 } // namespace
 
+SceneSettings floorPassScene(const TetMesh& mesh, const SceneSettings& scene)
+{
+  SceneSettings lifted = scene;
+  if (!scene.floorEnabled || scene.collisions.mode == CollisionMode::Off)
+  {
+    return lifted;
+  }
+  const CollisionDetector detector(tetBodyGeometry(mesh, scene.collisions.mode), scene.collisions,
+    false, scene.floor);
+  if (scene.floor.normal.norm() > 0.0)
+  {
+    lifted.floor.origin += detector.margin() * scene.floor.normal.normalized();
+  }
+  return lifted;
+}
+
 /// Accelerations a_i = g + w_i f_i for free points, 0 for pinned and massless ones.
 class MassSpringSimulation::Forces final : public AccelerationEvaluator
 {
