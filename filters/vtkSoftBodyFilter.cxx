@@ -6,6 +6,7 @@
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyImplicitReport.h"
 #include "vtkSoftBodyInputConversion.h"
+#include "vtkSoftBodyObstacleInput.h"
 #include "vtkSoftBodyPbdAdapter.h"
 #include "vtkSoftBodySettings.h"
 #include "vtkSoftBodySkin.h"
@@ -13,7 +14,10 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkDemandDrivenPipeline.h"
 #include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
+#include "vtkInformationExecutivePortKey.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
@@ -41,6 +45,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -63,11 +68,13 @@ std::unique_ptr<softbody::Simulation> MakeGpuSimulation(const softbody::BodyDesc
   const softbody::SceneSettings& scene, std::string& renderer, std::string& whyNot)
 {
 #ifdef SOFTBODY_WITH_GPU
-  // Built on the body renumbered for locality, like the CPU stepper (mass_spring_reordered.h).
-  return softbody::buildReorderedMassSpring(body, scene, softbody::kDefaultVertexOrdering,
+  // Built on the body renumbered for locality, like the CPU stepper (mass_spring_reordered.h),
+  // with its floor where the CPU's contacts hold points (floorPassScene).
+  const softbody::SceneSettings gpuScene = softbody::floorPassScene(body.mesh, scene);
+  return softbody::buildReorderedMassSpring(body, gpuScene, softbody::kDefaultVertexOrdering,
     [&](softbody::BodyDescription stored) -> std::unique_ptr<softbody::Simulation> {
       std::unique_ptr<softbody::gpu::MassSpringGpuSimulation> simulation =
-        softbody::gpu::tryCreateGpuMassSpring(stored, scene, whyNot);
+        softbody::gpu::tryCreateGpuMassSpring(stored, gpuScene, whyNot);
       if (simulation)
       {
         renderer = simulation->glRenderer();
@@ -90,6 +97,19 @@ vtkSmartPointer<vtkPoints> MakePoints(const std::vector<softbody::Vec3>& positio
   return points;
 }
 } // namespace
+
+//------------------------------------------------------------------------------
+// One connection of the Obstacles input as far as the cache key is concerned: a static one by
+// its surface (an equal surface from a re-executed source keeps the frames), a moving one by
+// its producer's pipeline modification time (its surfaces change with the requested time,
+// which does not modify the pipeline; a changed source parameter does).
+struct vtkSoftBodyFilter::ObstacleConnection
+{
+  bool Moving = false;
+  vtkMTimeType PipelineMTime = 0;  ///< moving ones only
+  softbody::ObstacleSurface Static; ///< static ones only
+  bool operator==(const ObstacleConnection&) const = default;
+};
 
 //------------------------------------------------------------------------------
 // Run-time state kept between requests: the simulation, its frame cache and what they were
@@ -123,6 +143,21 @@ public:
   std::string RunWarning;     ///< the run to EndTime will take long (steps, time, remedies)
   std::string RunWarningSaid; ///< the last one printed, so it is said once
 
+  /// The Obstacles input as the simulation was built with it (part of the cache key).
+  std::vector<ObstacleConnection> Obstacles;
+  /// Moving obstacles' surfaces by the time they were requested at (frame times and off-grid
+  /// request times), one entry per connection (empty surfaces for static ones). Kept with
+  /// the simulation: re-simulating an evicted frame needs the obstacles at its times again.
+  std::map<double, std::vector<softbody::ObstacleSurface>> MovingObstaclesAt;
+  /// The time the moving obstacles are requested at in the coming pass (time protocol).
+  double ObstacleRequestTime = 0.0;
+
+  bool HasMovingObstacles() const
+  {
+    return std::any_of(this->Obstacles.begin(), this->Obstacles.end(),
+      [](const ObstacleConnection& c) { return c.Moving; });
+  }
+
   void Discard()
   {
     this->Simulation.reset();
@@ -133,6 +168,8 @@ public:
     this->DeviceUsed = vtkSoftBodyFilter::DEVICE_CPU;
     this->GLRenderer.clear();
     this->DeviceWarning.clear();
+    this->Obstacles.clear();
+    this->MovingObstaclesAt.clear();
   }
 };
 
@@ -140,7 +177,7 @@ public:
 vtkSoftBodyFilter::vtkSoftBodyFilter()
   : Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfInputPorts(3);
   this->SetNumberOfOutputPorts(5);
   this->P = vtkSoftBodySettings::DefaultParameters();
 }
@@ -164,6 +201,15 @@ int vtkSoftBodyFilter::FillInputPortInformation(int port, vtkInformation* info)
     // executive's repeated type errors.
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
     info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+    return 1;
+  }
+  if (port == 2)
+  {
+    // Obstacles: any number of connections; any data object, so a composite dataset gets
+    // one clear error (vtkSoftBodyObstacleInput::TypeError).
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+    info->Set(vtkAlgorithm::INPUT_IS_REPEATABLE(), 1);
     return 1;
   }
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkUnstructuredGrid");
@@ -226,6 +272,22 @@ int vtkSoftBodyFilter::RequestUpdateExtent(
       inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
     }
   }
+  // A moving obstacle is asked for at the time the simulation needs next (RequestData names it
+  // and asks the executive to run again: CONTINUE_EXECUTING), not at the time asked of us;
+  // static ones get no time, so they never re-execute.
+  for (int c = 0; c < inputVector[2]->GetNumberOfInformationObjects(); ++c)
+  {
+    vtkInformation* inInfo = inputVector[2]->GetInformationObject(c);
+    if (vtkSoftBodyObstacleInput::IsTemporal(inInfo))
+    {
+      inInfo->Set(
+        vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP(), this->Internals->ObstacleRequestTime);
+    }
+    else
+    {
+      inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    }
+  }
   return 1;
 }
 
@@ -241,6 +303,9 @@ int vtkSoftBodyFilter::RequestData(
   vtkPolyData* skinned = vtkPolyData::GetData(outputVector, 3);
   vtkPolyData* floorOutput = vtkPolyData::GetData(outputVector, 4);
   vtkDataObject* surfaceInput = vtkDataObject::GetData(inputVector[1], 0); // optional
+  // A run that stopped to fetch a moving obstacle asked to be executed again; this one decides
+  // afresh whether it needs another.
+  request->Remove(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING());
   if (!input || !mesh || !particles || !convergence || !skinned || !floorOutput)
   {
     vtkErrorMacro("Missing input or output data object.");
@@ -311,6 +376,40 @@ int vtkSoftBodyFilter::RequestData(
     return 1;
   }
 
+  // The Obstacles input (ignored with Collisions Off): each connection's key, and the moving
+  // ones' surfaces at the time this pass requested them.
+  std::vector<ObstacleConnection> obstacles;
+  std::vector<softbody::ObstacleSurface> movingNow;
+  if (this->CollisionsOn(settings))
+  {
+    const int count = inputVector[2]->GetNumberOfInformationObjects();
+    for (int c = 0; c < count; ++c)
+    {
+      vtkInformation* info = inputVector[2]->GetInformationObject(c);
+      vtkDataObject* object = info->Get(vtkDataObject::DATA_OBJECT());
+      const std::string typeError = vtkSoftBodyObstacleInput::TypeError(object);
+      if (!typeError.empty())
+      {
+        vtkErrorMacro(<< "Obstacles input " << c << ": " << typeError);
+        return 0;
+      }
+      ObstacleConnection connection;
+      connection.Moving = vtkSoftBodyObstacleInput::IsTemporal(info);
+      if (connection.Moving)
+      {
+        auto* producer = vtkDemandDrivenPipeline::SafeDownCast(vtkExecutive::PRODUCER()->GetExecutive(info));
+        connection.PipelineMTime = producer ? producer->GetPipelineMTime() : 0;
+        movingNow.push_back(vtkSoftBodyObstacleInput::ToObstacle(object));
+      }
+      else
+      {
+        connection.Static = vtkSoftBodyObstacleInput::ToObstacle(object);
+        movingNow.emplace_back();
+      }
+      obstacles.push_back(std::move(connection));
+    }
+  }
+
   // Compute. Core reports unusable input and divergence by exceptions; they must not cross
   // into the pipeline, and a simulation that threw is not trusted again. A refusal while
   // building a new simulation (core validates the settings then) leaves the current one and
@@ -318,11 +417,15 @@ int vtkSoftBodyFilter::RequestData(
   bool prepared = false;
   try
   {
-    if (!this->PrepareSimulation(input, settings))
+    if (!this->PrepareSimulation(input, settings, obstacles))
     {
       return 0;
     }
     prepared = true;
+    if (this->Internals->HasMovingObstacles())
+    {
+      this->Internals->MovingObstaclesAt[this->Internals->ObstacleRequestTime] = std::move(movingNow);
+    }
     // Said before a long run starts (and again only if EndTime or the simulation changes it).
     this->Internals->RunWarning = this->Internals->Simulation->longRunWarning(this->P.EndTime);
     if (!this->Internals->RunWarning.empty() &&
@@ -331,9 +434,18 @@ int vtkSoftBodyFilter::RequestData(
       vtkWarningMacro(<< this->Internals->RunWarning);
       this->Internals->RunWarningSaid = this->Internals->RunWarning;
     }
-    if (!this->AdvanceTo(t))
+    const AdvanceResult advanced = this->AdvanceTo(t);
+    if (advanced == AdvanceResult::Aborted)
     {
       // Aborted: CheckAbort has flagged the outputs; the executive empties them.
+      return 1;
+    }
+    if (advanced == AdvanceResult::NeedsObstacles)
+    {
+      // The frames so far are cached; the executive runs the pipeline again with the moving
+      // obstacles requested at ObstacleRequestTime (RequestUpdateExtent) and this request
+      // resumes where it stopped. Outputs are filled by the pass that reaches `t`.
+      request->Set(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING(), 1);
       return 1;
     }
   }
@@ -391,8 +503,8 @@ int vtkSoftBodyFilter::RequestData(
 }
 
 //------------------------------------------------------------------------------
-bool vtkSoftBodyFilter::PrepareSimulation(
-  vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings)
+bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input,
+  const vtkSoftBodyCoreSettings& settings, const std::vector<ObstacleConnection>& obstacles)
 {
   vtkInternals& internals = *this->Internals;
   internals.Cache.SetMemoryLimit(static_cast<std::size_t>(this->P.CacheMemoryLimit) << 20);
@@ -400,7 +512,8 @@ bool vtkSoftBodyFilter::PrepareSimulation(
   // The key is what the simulation is built from; EndTime and CacheMemoryLimit are not part
   // of it, nor is any property the method ignores, so changing those keeps the cache.
   if (internals.Simulation && internals.Input == input &&
-    internals.InputMTime == input->GetMTime() && internals.Settings == settings)
+    internals.InputMTime == input->GetMTime() && internals.Settings == settings &&
+    internals.Obstacles == obstacles)
   {
     return true;
   }
@@ -420,9 +533,22 @@ bool vtkSoftBodyFilter::PrepareSimulation(
       return false;
     }
   }
-  else if (!this->CreateMassSpring(input, settings, built))
+  else if (!this->CreateMassSpring(input, settings, !obstacles.empty(), built))
   {
     return false;
+  }
+  // Static obstacles are set once (they are not part of the state the cache restores);
+  // moving ones before every frame (AdvanceTo). Throws InvalidInputError for a method that
+  // cannot collide with obstacles or a bad surface: the current simulation stays.
+  built.Obstacles = obstacles;
+  if (!obstacles.empty() && !built.HasMovingObstacles())
+  {
+    std::vector<softbody::ObstacleSurface> surfaces;
+    for (const ObstacleConnection& connection : obstacles)
+    {
+      surfaces.push_back(connection.Static);
+    }
+    built.Simulation->setObstacles(std::move(surfaces), 0.0);
   }
   internals.Discard();
   internals.Simulation = std::move(built.Simulation);
@@ -431,6 +557,7 @@ bool vtkSoftBodyFilter::PrepareSimulation(
   internals.DeviceUsed = built.DeviceUsed;
   internals.GLRenderer = std::move(built.GLRenderer);
   internals.DeviceWarning = std::move(built.DeviceWarning);
+  internals.Obstacles = std::move(built.Obstacles);
   internals.Cache.Insert(0, internals.Simulation->state());
   internals.SimulationFrame = 0;
   internals.Input = input;
@@ -452,8 +579,8 @@ bool vtkSoftBodyFilter::PrepareSimulation(
 }
 
 //------------------------------------------------------------------------------
-bool vtkSoftBodyFilter::CreateMassSpring(
-  vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings, vtkInternals& built)
+bool vtkSoftBodyFilter::CreateMassSpring(vtkUnstructuredGrid* input,
+  const vtkSoftBodyCoreSettings& settings, bool withObstacles, vtkInternals& built)
 {
   softbody::BodyDescription body;
   const std::string inputError =
@@ -466,13 +593,35 @@ bool vtkSoftBodyFilter::CreateMassSpring(
   body.material = settings.Material;
 
   // Throws InvalidInputError for bad geometry or material; the caller reports it.
-  if (settings.Device == DEVICE_GPU_EGL)
+  // The GPU stepper collides with the floor only (like the implicit integrators' fallback,
+  // the CPU runs what the GPU cannot, and says so).
+  const softbody::CollisionMode mode = settings.Scene.collisions.mode;
+  if (settings.Device == DEVICE_GPU_EGL &&
+    (withObstacles || mode == softbody::CollisionMode::ObstaclesAndBodies ||
+      mode == softbody::CollisionMode::ObstaclesBodiesAndSelf))
+  {
+    built.DeviceWarning = std::string("Device GPU (EGL) collides with the floor only, simulating "
+                                      "on the CPU: ") +
+      (withObstacles ? "an Obstacles input is connected" : "Collisions includes bodies") +
+      " (set Collisions to Obstacles and disconnect the Obstacles to run on the GPU).";
+    vtkWarningMacro(<< built.DeviceWarning);
+  }
+  else if (settings.Device == DEVICE_GPU_EGL)
   {
     std::string whyNot;
     built.Simulation = MakeGpuSimulation(body, settings.Scene, built.GLRenderer, whyNot);
     if (built.Simulation)
     {
       built.DeviceUsed = DEVICE_GPU_EGL;
+      const softbody::CollisionSettings& c = settings.Scene.collisions;
+      if (settings.Scene.floorEnabled &&
+        (c.staticFriction > 0.0 || c.dynamicFriction > 0.0 || c.restitution > 0.0))
+      {
+        built.DeviceWarning = "Device GPU (EGL): the GPU's floor is frictionless and inelastic; "
+                              "StaticFriction, DynamicFriction and Restitution act on the CPU "
+                              "only (set them to 0 to silence this, or use Device CPU).";
+        vtkWarningMacro(<< built.DeviceWarning);
+      }
     }
     else
     {
@@ -489,7 +638,7 @@ bool vtkSoftBodyFilter::CreateMassSpring(
 }
 
 //------------------------------------------------------------------------------
-bool vtkSoftBodyFilter::AdvanceTo(double t)
+vtkSoftBodyFilter::AdvanceResult vtkSoftBodyFilter::AdvanceTo(double t)
 {
   vtkInternals& internals = *this->Internals;
   softbody::Simulation& simulation = *internals.Simulation;
@@ -519,7 +668,7 @@ bool vtkSoftBodyFilter::AdvanceTo(double t)
   const int framesToRun = target - first + (onGrid ? 0 : 1);
   if (framesToRun <= 0)
   {
-    return true;
+    return AdvanceResult::Done;
   }
   double lastReported = -1.0;
   int framesDone = 0;
@@ -536,6 +685,32 @@ bool vtkSoftBodyFilter::AdvanceTo(double t)
     this->UpdateProgress(total);
     aborted = this->CheckAbort();
     return !aborted;
+  };
+
+  // Moving obstacles over [t0, t1]: their surfaces at t1 with the velocity from t0 (both
+  // fetched by earlier passes); false, with the missing time to request, when one is not here.
+  auto setMovingObstacles = [&](double t0, double t1) {
+    if (!internals.HasMovingObstacles())
+    {
+      return true;
+    }
+    const auto start = internals.MovingObstaclesAt.find(t0);
+    const auto end = internals.MovingObstaclesAt.find(t1);
+    if (start == internals.MovingObstaclesAt.end() || end == internals.MovingObstaclesAt.end())
+    {
+      internals.ObstacleRequestTime = start == internals.MovingObstaclesAt.end() ? t0 : t1;
+      return false;
+    }
+    std::vector<softbody::ObstacleSurface> surfaces;
+    for (std::size_t c = 0; c < internals.Obstacles.size(); ++c)
+    {
+      const ObstacleConnection& connection = internals.Obstacles[c];
+      surfaces.push_back(connection.Moving
+          ? vtkSoftBodyObstacleInput::WithVelocities(end->second[c], start->second[c], t1 - t0)
+          : connection.Static);
+    }
+    simulation.setObstacles(std::move(surfaces), t1);
+    return true;
   };
 
   auto runTo = [&](double endTime) {
@@ -563,10 +738,14 @@ bool vtkSoftBodyFilter::AdvanceTo(double t)
   };
   for (int k = first + 1; k <= target; ++k)
   {
+    if (!setMovingObstacles((k - 1) * this->P.FrameInterval, k * this->P.FrameInterval))
+    {
+      return AdvanceResult::NeedsObstacles; // still exactly at frame k - 1
+    }
     if (this->CheckAbort() || !runTo(k * this->P.FrameInterval))
     {
       internals.SimulationFrame = -1; // stopped somewhere inside frame k
-      return false;
+      return AdvanceResult::Aborted;
     }
     internals.SimulationFrame = k;
     internals.Cache.Insert(k, simulation.state());
@@ -577,14 +756,26 @@ bool vtkSoftBodyFilter::AdvanceTo(double t)
   {
     // Off-grid times (only EndTime, or a time a script asks for) are not cached: the next
     // request resumes from the grid frame before them.
+    if (!setMovingObstacles(target * this->P.FrameInterval, t))
+    {
+      return AdvanceResult::NeedsObstacles;
+    }
     internals.SimulationFrame = -1;
     if (this->CheckAbort() || !runTo(t))
     {
-      return false;
+      return AdvanceResult::Aborted;
     }
   }
   this->UpdateProgress(1.0);
-  return true;
+  return AdvanceResult::Done;
+}
+
+//------------------------------------------------------------------------------
+bool vtkSoftBodyFilter::CollisionsOn(const vtkSoftBodyCoreSettings& settings)
+{
+  const softbody::CollisionSettings& collisions =
+    settings.Method == MASS_SPRING ? settings.Scene.collisions : settings.Pbd.collisions;
+  return collisions.mode != softbody::CollisionMode::Off;
 }
 
 //------------------------------------------------------------------------------
@@ -792,10 +983,15 @@ void vtkSoftBodyFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BreakingStrain: " << this->P.BreakingStrain << "\n";
   os << indent << "PlasticYield: " << this->P.PlasticYield << "\n";
   os << indent << "PlasticCreep: " << this->P.PlasticCreep << "\n";
-  os << indent << "Friction: " << this->P.Friction << "\n";
+  os << indent << "Collisions: " << this->P.Collisions << "\n";
+  os << indent << "BroadPhase: " << this->P.BroadPhase << "\n";
+  os << indent << "CollisionMargin: " << this->P.CollisionMargin << "\n";
+  os << indent << "StaticFriction: " << this->P.StaticFriction << "\n";
+  os << indent << "DynamicFriction: " << this->P.DynamicFriction << "\n";
   os << indent << "Restitution: " << this->P.Restitution << "\n";
   os << indent << "VelocityDamping: " << this->P.VelocityDamping << "\n";
   os << indent << "CacheMemoryLimit: " << this->P.CacheMemoryLimit << " MiB\n";
+  os << indent << "Obstacles: " << this->GetNumberOfInputConnections(2) << " connections\n";
   os << indent << "SimulatedStepsTotal: " << this->SimulatedStepsTotal << "\n";
   os << indent << "CachedFrames: " << this->Internals->Cache.GetNumberOfFrames() << " ("
      << this->Internals->Cache.GetMemoryUsed() << " bytes)\n";

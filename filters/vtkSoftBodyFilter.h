@@ -47,6 +47,7 @@
 
 #include <memory> // for std::unique_ptr
 #include <string> // for std::string
+#include <vector> // for std::vector
 
 class vtkPolyData;
 class vtkTable;
@@ -110,6 +111,20 @@ public:
     DEVICE_CPU = 0,
     DEVICE_GPU_EGL = 1
   };
+  enum CollisionsType
+  {
+    COLLISIONS_OFF = 0,            ///< nothing, not even the floor
+    COLLISIONS_OBSTACLES = 1,      ///< the floor and the Obstacles input (default)
+    COLLISIONS_BODIES = 2,         ///< + the input's connected bodies against each other
+    COLLISIONS_BODIES_AND_SELF = 3 ///< + each body against itself
+  };
+  enum BroadPhaseType
+  {
+    BROAD_PHASE_AUTOMATIC = 0,
+    BROAD_PHASE_BRUTE_FORCE = 1,
+    BROAD_PHASE_UNIFORM_GRID = 2,
+    BROAD_PHASE_OCTREE = 3
+  };
 
   /**
    * Every property of the filter as the user set it (setters never clamp), with its default.
@@ -163,7 +178,11 @@ public:
     double BreakingStrain = 0.0;
     double PlasticYield = 0.0;
     double PlasticCreep = 0.0;
-    double Friction = 0.3;
+    int Collisions = COLLISIONS_OBSTACLES;
+    int BroadPhase = BROAD_PHASE_AUTOMATIC;
+    double CollisionMargin = 0.0;
+    double StaticFriction = 0.3;
+    double DynamicFriction = 0.3;
     double Restitution = 0.0;
     double VelocityDamping = 0.0;
   };
@@ -175,6 +194,16 @@ public:
    * The optional render surface (input port 1) skinned onto the body (output port 3).
    */
   void SetSurfaceConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
+
+  /**
+   * Obstacles (input port 2, optional and repeatable): any dataset, whose triangulated outer
+   * surface the bodies collide with, one-sided (the free side is the one its triangles'
+   * normals point to; see vtkSoftBodyObstacleInput). A time-dependent obstacle source is
+   * requested at every frame time the simulation passes and moves with the velocity of its
+   * vertices between frames.
+   */
+  void AddObstacleConnection(vtkAlgorithmOutput* output) { this->AddInputConnection(2, output); }
+  void RemoveAllObstacles() { this->SetInputConnection(2, nullptr); }
 
   ///@{
   /**
@@ -228,17 +257,36 @@ public:
 
   ///@{
   /**
-   * PBD/XPBD materials and contacts: links break past BreakingStrain (relative to their
-   * original length; 0 = never); past PlasticYield their rest length creeps toward the current
-   * length at PlasticCreep [1/s] (0 = elastic). Friction (Coulomb) and Restitution act at the
-   * floor; VelocityDamping [1/s] damps all motion.
+   * PBD/XPBD materials: links break past BreakingStrain (relative to their original length;
+   * 0 = never); past PlasticYield their rest length creeps toward the current length at
+   * PlasticCreep [1/s] (0 = elastic); VelocityDamping [1/s] damps all motion.
    */
   vtkSoftBodyParameterMacro(BreakingStrain, double);
   vtkSoftBodyParameterMacro(PlasticYield, double);
   vtkSoftBodyParameterMacro(PlasticCreep, double);
-  vtkSoftBodyParameterMacro(Friction, double);
-  vtkSoftBodyParameterMacro(Restitution, double);
   vtkSoftBodyParameterMacro(VelocityDamping, double);
+  ///@}
+
+  ///@{
+  /**
+   * Contacts (every method). Collisions: COLLISIONS_OFF (nothing, not even the floor),
+   * COLLISIONS_OBSTACLES (default: the floor and the Obstacles input), COLLISIONS_BODIES (+ the
+   * input's connected bodies against each other), COLLISIONS_BODIES_AND_SELF (+ each body
+   * against itself). BroadPhase: BROAD_PHASE_AUTOMATIC (default), _BRUTE_FORCE, _UNIFORM_GRID,
+   * _OCTREE (same contacts, different cost). CollisionMargin [m]: the thickness kept between a
+   * point and what it touches, 0 (default) = automatic. StaticFriction and DynamicFriction
+   * (Coulomb, >= 0; default 0.3 both): a contact sticks while the tangential push is below
+   * StaticFriction times the normal one and slides with DynamicFriction otherwise.
+   * Restitution in [0, 1]: the fraction of the normal approach speed kept after an impact.
+   * They replace the single Friction of earlier versions (PBD/XPBD floor only): an alias
+   * setting both could not show in the panel or a saved state which value is in force.
+   */
+  vtkSoftBodyParameterMacro(Collisions, int);
+  vtkSoftBodyParameterMacro(BroadPhase, int);
+  vtkSoftBodyParameterMacro(CollisionMargin, double);
+  vtkSoftBodyParameterMacro(StaticFriction, double);
+  vtkSoftBodyParameterMacro(DynamicFriction, double);
+  vtkSoftBodyParameterMacro(Restitution, double);
   ///@}
 
   ///@{
@@ -399,21 +447,33 @@ private:
   void operator=(const vtkSoftBodyFilter&) = delete;
 
   class vtkInternals;
+  struct ObstacleConnection;
+  enum class AdvanceResult
+  {
+    Done,
+    Aborted,
+    NeedsObstacles ///< a moving obstacle is needed at Internals' ObstacleRequestTime
+  };
 
   /// Builds the simulation (and empties the cache) unless the input and the core settings it
   /// was built from are unchanged. Builds before it replaces: when the new settings or input
   /// are refused (false, or core's InvalidInputError), the current simulation and its cached
   /// frames stay, so that correcting the value finds them again.
-  bool PrepareSimulation(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings);
+  bool PrepareSimulation(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
+    const std::vector<ObstacleConnection>& obstacles);
   /// Builds a Mass-Spring simulation into `built` (Simulation, DeviceUsed, GLRenderer,
-  /// DeviceWarning), leaving the filter's own state alone.
-  bool CreateMassSpring(
-    vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings, vtkInternals& built);
+  /// DeviceWarning), leaving the filter's own state alone. `withObstacles` (or body
+  /// collisions) keeps it on the CPU: the GPU stepper collides with the floor only.
+  bool CreateMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
+    bool withObstacles, vtkInternals& built);
+  /// Whether the selected method's Collisions mode is other than Off.
+  static bool CollisionsOn(const vtkSoftBodyCoreSettings& settings);
   /// The step the simulation takes: the frame interval split into equal steps no larger than
   /// its step size (what the last advance used; before any, what the frames will use).
   double StepUsed() const;
-  /// Brings the simulation to time `t` through the cache; false when aborted.
-  bool AdvanceTo(double t);
+  /// Brings the simulation to time `t` through the cache, or as far as the moving obstacles
+  /// fetched so far allow (NeedsObstacles: the next pass fetches the missing time).
+  AdvanceResult AdvanceTo(double t);
   /// `withSurface`: a Surface input is bound (its binding warning joins Warnings).
   void FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, bool withSurface);
   void FillConvergence(vtkTable* output);

@@ -37,6 +37,37 @@ softbody::InvertedTetPolicy CoreInvertedTets(int value)
     : softbody::InvertedTetPolicy::Reorient;
 }
 
+softbody::CollisionMode CoreCollisionMode(int value)
+{
+  switch (Choice("Collisions", value, 4,
+    "0 (Off), 1 (Obstacles), 2 (Obstacles + Bodies), 3 (Obstacles + Bodies + Self)"))
+  {
+    case vtkSoftBodyFilter::COLLISIONS_OFF:
+      return softbody::CollisionMode::Off;
+    case vtkSoftBodyFilter::COLLISIONS_BODIES:
+      return softbody::CollisionMode::ObstaclesAndBodies;
+    case vtkSoftBodyFilter::COLLISIONS_BODIES_AND_SELF:
+      return softbody::CollisionMode::ObstaclesBodiesAndSelf;
+    default:
+      return softbody::CollisionMode::Obstacles;
+  }
+}
+
+softbody::BroadPhase CoreBroadPhase(int value)
+{
+  switch (Choice("BroadPhase", value, 4, "0 (Automatic), 1 (Brute Force), 2 (Uniform Grid), 3 (Octree)"))
+  {
+    case vtkSoftBodyFilter::BROAD_PHASE_BRUTE_FORCE:
+      return softbody::BroadPhase::BruteForce;
+    case vtkSoftBodyFilter::BROAD_PHASE_UNIFORM_GRID:
+      return softbody::BroadPhase::UniformGrid;
+    case vtkSoftBodyFilter::BROAD_PHASE_OCTREE:
+      return softbody::BroadPhase::Octree;
+    default:
+      return softbody::BroadPhase::Automatic;
+  }
+}
+
 void ConvertMassSpring(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings& settings)
 {
   softbody::SceneSettings& scene = settings.Scene;
@@ -48,7 +79,9 @@ void ConvertMassSpring(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSe
     scene.implicit.maxIterations = p.ImplicitMaxIterations;
   }
   scene.gravity = ToVec3(p.Gravity);
-  scene.floorEnabled = p.Floor != 0;
+  scene.collisions = vtkSoftBodySettings::Collisions(p);
+  // Collisions Off means no contact at all, the floor included.
+  scene.floorEnabled = p.Floor != 0 && scene.collisions.mode != softbody::CollisionMode::Off;
   if (scene.floorEnabled)
   {
     scene.floor.origin = ToVec3(p.FloorOrigin);
@@ -98,17 +131,13 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
   s.relaxation = p.Relaxation;
   s.gravity = ToVec3(p.Gravity);
   s.damping = p.VelocityDamping;
+  s.collisions = vtkSoftBodySettings::Collisions(p);
   s.floorEnabled = p.Floor != 0;
   if (s.floorEnabled)
   {
     s.floor.origin = ToVec3(p.FloorOrigin);
     s.floor.normal = ToVec3(p.FloorNormal);
   }
-  // Friction and restitution act at every contact (floor, obstacles, bodies). One Friction
-  // property for now: the static and the dynamic coefficient alike.
-  s.collisions.staticFriction = p.Friction;
-  s.collisions.dynamicFriction = p.Friction;
-  s.collisions.restitution = p.Restitution;
   // Each formulation reads only its own constants: PBD stiffnesses, XPBD compliances (or
   // Young's modulus), so the other's properties do not invalidate the cache.
   if (xpbd)
@@ -162,6 +191,25 @@ softbody::Integrator vtkSoftBodySettings::Integrator(int integrator)
     default:
       return softbody::Integrator::EulerCromer;
   }
+}
+
+//------------------------------------------------------------------------------
+softbody::CollisionSettings vtkSoftBodySettings::Collisions(const vtkSoftBodyFilter::Parameters& p)
+{
+  softbody::CollisionSettings collisions;
+  collisions.mode = CoreCollisionMode(p.Collisions);
+  if (collisions.mode == softbody::CollisionMode::Off)
+  {
+    return collisions; // nothing collides: the other values are not read (nor key the cache)
+  }
+  collisions.broadPhase = CoreBroadPhase(p.BroadPhase);
+  collisions.margin = p.CollisionMargin;
+  collisions.staticFriction = p.StaticFriction;
+  collisions.dynamicFriction = p.DynamicFriction;
+  collisions.restitution = p.Restitution;
+  // Ranges are core's to refuse (CollisionDetector), quoting the value; the broad phase only
+  // changes the cost, but it stays in the key so a benchmark run really uses the one asked for.
+  return collisions;
 }
 
 //------------------------------------------------------------------------------

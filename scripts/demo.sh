@@ -2,7 +2,9 @@
 # Soft Body demo: installs what is missing (Debian bookworm), builds the plugin, then in pvpython
 # drops a jelly onto a floor (mass-spring; output/demo/softbody.pvd + softbody.png) and a
 # voxelized torus whose surface is skinned onto its particles (XPBD; output/demo/torus.pvd +
-# torus.png). Extra arguments go to both runs of scripts/demo.py (see --help).
+# torus.png) and three jellies onto a block obstacle and each other (mass-spring, Collisions =
+# Obstacles + Bodies; output/demo/pile.pvd + pile.png). Extra arguments go to every run of
+# scripts/demo.py (see --help).
 set -euo pipefail
 # shellcheck source=scripts/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -10,7 +12,7 @@ softbody_setup
 
 # Debian's ParaView renders through GLX only: give it a virtual X display (24-bit; xvfb-run's
 # default of 8 bits is too little for GLX).
-for example in jelly torus; do
+for example in jelly torus pile; do
   softbody_log "running the ${example} demo (pvpython under xvfb-run)"
   xvfb-run -a -s "-screen 0 1280x1024x24" \
     pvpython "${SOFTBODY_ROOT}/scripts/demo.py" \

@@ -1370,8 +1370,8 @@ int main(int argc, char** argv)
   }
   if (wanted("restitution"))
   {
-    notes.push_back("restitution: the mass-spring floor (massspring/floor_contact.h) is perfectly inelastic "
-                    "and frictionless: no mass-spring rows (implicit ones included); PBD/XPBD only");
+    notes.push_back("restitution: the mass-spring contacts (massspring/contact_response.h) are not measured "
+                    "here yet: no mass-spring rows (implicit ones included); PBD/XPBD only");
     std::printf("  %s\n", notes.back().c_str());
     runScene(restitutionScene(false));
     runScene(restitutionScene(true));

@@ -394,6 +394,9 @@ SceneSettings landingScene(const TetMesh& mesh, bool floor, double strainLimit)
   SceneSettings scene;
   scene.floorEnabled = floor;
   scene.floor.origin = Vec3(0, 0, lowest - 1e-3);
+  // A contact margin well under the 1 mm gap, so the body lands rather than starting inside
+  // the automatic one (a tenth of the mean surface edge).
+  scene.collisions.margin = 1e-4;
   scene.strainLimit = strainLimit;
   return scene;
 }

@@ -96,15 +96,15 @@ int main()
     a.Filter->SetGravity(0.0, 0.0, -9.81);
   }
 
-  // Properties the method ignores keep the cache: Mass-Spring reads no PBD/XPBD setting, and
-  // no floor friction or restitution; the key is the core settings actually produced.
+  // Properties the method ignores keep the cache: Mass-Spring reads no PBD/XPBD setting; the
+  // key is the core settings actually produced.
   {
     Positions(a, FrameTime(5));
     const unsigned long long before = a.Filter->GetSimulatedStepsTotal();
     a.Filter->SetIterations(3);
     a.Filter->SetSubsteps(4);
     a.Filter->SetXPBDLinkCompliance(1.0);
-    a.Filter->SetFriction(0.9);
+    a.Filter->SetPBDLinkStiffness(0.5);
     a.Filter->SetSolver(vtkSoftBodyFilter::JACOBI);
     SB_CHECK(sbtest::BitwiseEqual(Positions(a, FrameTime(5)), first5), "same frame after ignored changes");
     SB_CHECK(a.Filter->GetSimulatedStepsTotal() == before,

@@ -54,7 +54,9 @@ sbt.check(np.allclose(u, x - x0, atol=1e-9), "Displacement = current - rest posi
 sbt.check(x[:, 2].min() >= -floor_tolerance,
           f"every point is above the floor z = 0 within {floor_tolerance:.1e} m "
           f"(lowest {x[:, 2].min():.2e} m)")
-sbt.check(x[:, 2].min() <= 0.01 * size, "the body rests on the floor (lowest point touches it)")
+# Touching means within the contact margin: automatic, a tenth of the mean surface edge length
+# (3.7 mm for the jelly, 1.2 % of its size).
+sbt.check(x[:, 2].min() <= 0.02 * size, "the body rests on the floor (lowest point touches it)")
 sbt.check(com0[2] - com[2] > 0.8 * drop,
           f"the center of mass came down by about the drop height {drop:.3f} m "
           f"({com0[2] - com[2]:.3f} m)")
@@ -64,7 +66,10 @@ sbt.check(ratio.min() > 0.5 and ratio.max() < 1.5,
 settle_speed = 0.02 * np.sqrt(2.0 * 9.81 * drop)
 sbt.check(speed.max() < settle_speed,
           f"the body has settled: max speed {speed.max():.4f} < {settle_speed:.4f} m/s")
-sbt.check(np.linalg.norm(com_velocity) < 0.2 * settle_speed,
+# With floor friction (0.3 by default) the still-rocking body's base sticks while its top
+# sways, so the centre of mass sways too (1.6 cm/s at 3 s, measured); on the frictionless
+# floor before issue 14 it stayed below a fifth of this bound.
+sbt.check(np.linalg.norm(com_velocity) < settle_speed,
           f"center of mass at rest ({np.linalg.norm(com_velocity):.2e} m/s)")
 sbt.check(np.allclose(sbt.points_of(particles), x, atol=1e-12),
           "the particles sit on the mesh points")

@@ -56,11 +56,16 @@ cases = [
     ({"MaterialMode": "Raw Constants", "TotalMass": 0.0}, ["TotalMass", "got 0"]),
     ({"PinnedPointsArray": "NoSuchArray"}, ["NoSuchArray"]),
     ({"CacheMemoryLimit": -1}, ["CacheMemoryLimit", "got -1"]),
+    # Contacts, read by every method (Mass-Spring here).
+    ({"CollisionMargin": -0.5}, ["CollisionMargin", "got -0.5"]),
+    ({"StaticFriction": -1.0}, ["StaticFriction", "got -1"]),
+    ({"DynamicFriction": -2.0}, ["DynamicFriction", "got -2"]),
+    ({"Restitution": 1.5}, ["Restitution", "got 1.5"]),
     # PBD / XPBD settings, refused only under the method that reads them.
     ({"Method": "XPBD", "Iterations": 0}, ["Iterations", "got 0"]),
     ({"Method": "XPBD", "Substeps": 0}, ["Substeps", "got 0"]),
     ({"Method": "XPBD", "Relaxation": 2.5}, ["Relaxation", "(0, 2)", "got 2.5"]),
-    ({"Method": "XPBD", "Friction": -1.0}, ["Friction", "got -1"]),
+    ({"Method": "XPBD", "DynamicFriction": -1.0}, ["Friction", "got -1"]),
     ({"Method": "XPBD", "Restitution": 5.0}, ["Restitution", "[0, 1]", "got 5"]),
     ({"Method": "XPBD", "XPBDLinkCompliance": -1e-4}, ["XPBDLinkCompliance", "got -0.0001"]),
     ({"Method": "XPBD", "VelocityDamping": -3.0}, ["VelocityDamping", "got -3"]),

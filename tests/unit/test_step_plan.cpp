@@ -65,11 +65,40 @@ TEST(MassSpringPlan, StrainLimitAndFloorOnlyWhenTheSceneHasThem)
   scene.strainLimit = 1.1;
   scene.floorEnabled = true;
   MassSpringSimulation busy(massSpringBox(), scene);
+  // The floor is one obstacle among others: it goes through detection and the contacts.
   EXPECT_EQ(busy.plan(), (std::vector<Stage>{ Stage::Forces, Stage::Integrate, Stage::StrainLimit,
-                           Stage::Floor, Stage::DivergenceCheck }));
+                           Stage::CollisionDetect, Stage::Contacts, Stage::DivergenceCheck }));
   busy.advance(0.01);
   EXPECT_GT(busy.stepPlan().seconds(Stage::StrainLimit), 0.0);
-  EXPECT_GT(busy.stepPlan().seconds(Stage::Floor), 0.0);
+  EXPECT_GT(busy.stepPlan().seconds(Stage::CollisionDetect), 0.0);
+  EXPECT_GT(busy.stepPlan().seconds(Stage::Contacts), 0.0);
+
+  // The implicit integrators keep the floor in their solve; Collisions Off drops even that.
+  scene.integrator = Integrator::ImplicitEuler;
+  EXPECT_TRUE(planHas(MassSpringSimulation(massSpringBox(), scene), Stage::Floor));
+  EXPECT_FALSE(planHas(MassSpringSimulation(massSpringBox(), scene), Stage::CollisionDetect));
+  scene.collisions.mode = CollisionMode::Off;
+  EXPECT_FALSE(planHas(MassSpringSimulation(massSpringBox(), scene), Stage::Floor));
+  scene.integrator = Integrator::EulerCromer;
+  EXPECT_FALSE(planHas(MassSpringSimulation(massSpringBox(), scene), Stage::CollisionDetect));
+}
+
+TEST(MassSpringPlan, CollisionStagesAppearWithObstaclesOrBodyCollisions)
+{
+  SceneSettings scene; // no floor
+  MassSpringSimulation air(massSpringBox(), scene);
+  EXPECT_FALSE(planHas(air, Stage::CollisionDetect));
+  ObstacleSurface triangle;
+  triangle.vertices = { Vec3(0, 0, -1), Vec3(1, 0, -1), Vec3(0, 1, -1) };
+  triangle.triangles = { { 0, 1, 2 } };
+  air.setObstacles({ triangle }, 0.0);
+  EXPECT_TRUE(planHas(air, Stage::CollisionDetect));
+  EXPECT_TRUE(planHas(air, Stage::Contacts));
+  air.setObstacles({}, 0.0);
+  EXPECT_FALSE(planHas(air, Stage::CollisionDetect));
+
+  scene.collisions.mode = CollisionMode::ObstaclesAndBodies;
+  EXPECT_TRUE(planHas(MassSpringSimulation(massSpringBox(), scene), Stage::Contacts));
 }
 
 TEST(MassSpringPlan, ForcesSayWhetherTheyIncludeVolumes)

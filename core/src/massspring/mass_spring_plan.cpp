@@ -4,14 +4,14 @@
 
 namespace softbody
 {
-
-StepPlan planMassSpring(const MassSpringSetup& setup)
+namespace
 {
-  const SceneSettings& scene = setup.scene;
-  StepPlan plan;
+
+void addIntegration(StepPlan& plan, const SceneSettings& scene, bool hasVolumeTerm)
+{
   // The force pass walks the springs and, only when some tet has a volume stiffness or
   // damping, the tets (ElementConstants::hasVolumeTerm).
-  const std::string elements = setup.constants.hasVolumeTerm ? "springs + volumes" : "springs";
+  const std::string elements = hasVolumeTerm ? "springs + volumes" : "springs";
   switch (scene.integrator)
   {
     case Integrator::ImplicitEuler:
@@ -35,9 +35,51 @@ StepPlan planMassSpring(const MassSpringSetup& setup)
   {
     plan.add(Stage::StrainLimit);
   }
+}
+
+} // namespace
+
+StepPlan planMassSpring(const MassSpringSetup& setup)
+{
+  const SceneSettings& scene = setup.scene;
+  StepPlan plan;
+  addIntegration(plan, scene, setup.constants.hasVolumeTerm);
   if (scene.floorEnabled)
   {
     plan.add(Stage::Floor, isImplicit(scene.integrator) ? "active set in the solve" : "");
+  }
+  plan.add(Stage::DivergenceCheck);
+  return plan;
+}
+
+StepPlan planMassSpring(const SceneSettings& scene, bool hasVolumeTerm, bool hasObstacles)
+{
+  StepPlan plan;
+  addIntegration(plan, scene, hasVolumeTerm);
+  const bool collides = scene.collisions.mode != CollisionMode::Off;
+  const bool implicit = isImplicit(scene.integrator);
+  // The implicit integrators keep the floor in their solve (a step may not cross it); what
+  // else they touch is resolved after the step like the explicit integrators' contacts.
+  if (collides && implicit && scene.floorEnabled)
+  {
+    plan.add(Stage::Floor, "active set in the solve");
+  }
+  const bool bodies = scene.collisions.mode == CollisionMode::ObstaclesAndBodies ||
+    scene.collisions.mode == CollisionMode::ObstaclesBodiesAndSelf;
+  if (collides && ((!implicit && scene.floorEnabled) || hasObstacles || bodies))
+  {
+    std::string what = !implicit && scene.floorEnabled ? "floor" : "";
+    auto join = [&](const char* part) { what += (what.empty() ? "" : ", ") + std::string(part); };
+    if (hasObstacles)
+    {
+      join("obstacles");
+    }
+    if (bodies)
+    {
+      join(scene.collisions.mode == CollisionMode::ObstaclesBodiesAndSelf ? "bodies, self" : "bodies");
+    }
+    plan.add(Stage::CollisionDetect, what);
+    plan.add(Stage::Contacts, "projection + velocity response");
   }
   plan.add(Stage::DivergenceCheck);
   return plan;

@@ -102,6 +102,10 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
   MassSpringSetup s;
   s.scene = scene;
   validateScene(s.scene);
+  if (s.scene.collisions.mode == CollisionMode::Off)
+  {
+    s.scene.floorEnabled = false; // Collisions Off: nothing is touched, not even the floor
+  }
   if (!body.pinned.empty() && body.pinned.size() != body.mesh.points.size())
   {
     throw InvalidInputError("The pinned-point flags do not match the number of points.");

@@ -8,8 +8,16 @@
 namespace softbody
 {
 
-/// forces, integrate, then strain limit only when a limit is set, floor only when there is a
-/// floor, and the divergence check.
+/// The GPU stepper's plan: forces, integrate, then strain limit only when a limit is set,
+/// floor only when there is a floor (its own floor pass), and the divergence check.
 StepPlan planMassSpring(const MassSpringSetup& setup);
+
+/// The CPU stepper's plan, where contacts go through the collision detector: forces,
+/// integrate, strain limit when set; for the implicit integrators the floor as the active set
+/// inside their solve; then collision detection and contacts (projection and velocity
+/// response, contact_response.h) when anything can be touched: the floor (explicit
+/// integrators), obstacles (`hasObstacles`), or other bodies and the body itself (Collisions
+/// mode); the divergence check last.
+StepPlan planMassSpring(const SceneSettings& scene, bool hasVolumeTerm, bool hasObstacles);
 
 } // namespace softbody

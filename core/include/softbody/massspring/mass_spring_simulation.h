@@ -2,7 +2,9 @@
 // in time. This is the whole contract the VTK filter (and the future GPU stepper) relies on.
 #pragma once
 
+#include "softbody/collision/collision_detector.h"
 #include "softbody/common/simulation.h"
+#include "softbody/massspring/contact_response.h"
 #include "softbody/massspring/explicit_integrators.h"
 #include "softbody/massspring/implicit_euler.h"
 #include "softbody/massspring/mass_spring_forces.h"
@@ -18,6 +20,13 @@
 
 namespace softbody
 {
+
+/// The scene as a stepper with only its own floor pass sees it (the GPU stepper: an inelastic,
+/// frictionless projection onto the plane): the floor lifted by the collision margin of `mesh`
+/// (the one MassSpringSimulation's contacts keep), so both rest a body at the same height.
+/// Unchanged without a floor or with Collisions Off. Throws InvalidInputError like
+/// MassSpringSimulation for bad collision settings.
+SceneSettings floorPassScene(const TetMesh& mesh, const SceneSettings& scene);
 
 class MassSpringSimulation final : public Simulation
 {
@@ -55,6 +64,16 @@ public:
   const StepPlan& stepPlan() const override { return Plan; }
   std::string longRunWarning(double duration) const override;
 
+  /// Obstacles are collided with (unless Collisions is Off, which ignores them): detected
+  /// after each step and resolved like every contact (contact_response.h).
+  bool supportsObstacles() const override { return true; }
+  void setObstacles(std::vector<ObstacleSurface> obstacles, double endTime) override;
+  /// The contacts of the last step and what their response did (tests, diagnostics); the
+  /// detector is null with Collisions Off.
+  const ContactSet& lastContacts() const { return Contacts; }
+  const ContactResponseStats& lastContactResponse() const { return ContactStats; }
+  const CollisionDetector* collisionDetector() const { return Detector.get(); }
+
   /// Convergence of the implicit integrators' solves; null for the explicit ones.
   const ImplicitConvergence* implicitConvergence() const;
   /// The Projective Dynamics stepper (factorization facts); null for other integrators.
@@ -66,6 +85,7 @@ private:
   void integrateExplicit(double h);
   void integrateImplicit(double h);
   void checkDivergence() const;
+  void resolveContacts(double h);
 
   SceneSettings Scene;
   TetMesh Mesh;
@@ -85,6 +105,13 @@ private:
   mutable std::vector<Vec3> ForceBuffer;
   std::unique_ptr<ImplicitEulerStepper> Newton;             // Integrator ImplicitEuler
   std::unique_ptr<ProjectiveDynamicsStepper> Projective;    // Integrator ProjectiveDynamics
+  // Contacts (Collisions not Off): the detector, the step's start positions it sweeps from,
+  // the contacts found and what their response did.
+  std::unique_ptr<CollisionDetector> Detector;
+  bool HasObstacles = false; // the plan lists the collision stages for them
+  std::vector<Vec3> StepStart;
+  ContactSet Contacts;
+  ContactResponseStats ContactStats;
 };
 
 } // namespace softbody
