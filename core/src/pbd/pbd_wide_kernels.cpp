@@ -1,0 +1,157 @@
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi" // 32-byte vectors passed between inlined helpers only
+#endif
+
+#include "softbody/pbd/pbd_wide_kernels.h"
+
+namespace softbody
+{
+namespace
+{
+using simd::Lanes4;
+using simd::lane;
+
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "positions are read as packed xyz triples");
+static_assert(sizeof(ProjectionParameters) == 2 * sizeof(double), "scale, alphaTilde: a strided load");
+
+/// Lanes [0, width) whose constraint is not broken, as bits.
+template <class T>
+SOFTBODY_SIMD_INLINE unsigned activeLanes(const unsigned char* broken)
+{
+  if constexpr (std::is_same_v<T, double>)
+  {
+    return broken[0] == 0 ? 1u : 0u;
+  }
+  else
+  {
+    std::uint32_t bytes;
+    __builtin_memcpy(&bytes, broken, sizeof(bytes));
+    return (bytes & 0xffu ? 0u : 1u) | (bytes & 0xff00u ? 0u : 2u) | (bytes & 0xff0000u ? 0u : 4u) |
+      (bytes & 0xff000000u ? 0u : 8u);
+  }
+}
+
+/// Moves the corners of the active lanes to x + dx and adds dLambda to their multipliers. A
+/// pinned corner (w = 0, dx = 0) is not written: pinned particles may be shared within a color
+/// (the coloring only separates movable ones), and writing them would only be a redundant store.
+template <class T, int N>
+SOFTBODY_SIMD_INLINE void apply(const lanes::ProjectionLanes<T, N>& r, const simd::Vec3Lanes<T> (&x)[N],
+  const T (&w)[N], const std::int32_t* corners, unsigned active, double* lambda, double* xyz)
+{
+  const T zero = simd::broadcast<T>(0.0);
+  for (int k = 0; k < N; ++k)
+  {
+    simd::scatter3<T>(xyz, corners + k, N, x[k] + r.dx[k], active & simd::laneBits(w[k] > zero));
+  }
+  // An inactive lane adds +0 (dLambda is 0 there): the same bits, since a multiplier, summed
+  // from +0, is never -0.
+  const T sum = simd::load<T>(lambda) + simd::select(simd::laneMask<T>(active), r.dLambda, zero);
+  simd::store(lambda, sum);
+}
+
+template <class T>
+SOFTBODY_SIMD_INLINE void projectBlock(DistanceBatch& batch, std::size_t c, double* xyz, const double* w)
+{
+  const unsigned active = activeLanes<T>(&batch.broken[c]);
+  if (active == 0)
+  {
+    return;
+  }
+  const std::int32_t* ends = batch.ends[c].data();
+  const double* params = &batch.params[c].scale;
+  const simd::Vec3Lanes<T> x[2] = { simd::gather3<T>(xyz, ends, 2), simd::gather3<T>(xyz, ends + 1, 2) };
+  const T wl[2] = { simd::gather<T>(w, ends, 2), simd::gather<T>(w, ends + 1, 2) };
+  const auto r = lanes::distance<T>(x[0], x[1], wl[0], wl[1], simd::load<T>(&batch.rest[c]),
+    batch.kind == DistanceKind::AtLeast, simd::load<T>(&batch.lambda[c]), simd::loadStrided<T>(params, 2),
+    simd::loadStrided<T>(params + 1, 2));
+  apply<T, 2>(r, x, wl, ends, active, &batch.lambda[c], xyz);
+}
+
+template <class T>
+SOFTBODY_SIMD_INLINE void projectBlock(VolumeBatch& batch, std::size_t c, double* xyz, const double* w)
+{
+  const unsigned active = activeLanes<T>(&batch.broken[c]);
+  if (active == 0)
+  {
+    return;
+  }
+  const std::int32_t* corners = batch.tets[c].data();
+  const double* params = &batch.params[c].scale;
+  const simd::Vec3Lanes<T> x[4] = { simd::gather3<T>(xyz, corners, 4), simd::gather3<T>(xyz, corners + 1, 4),
+    simd::gather3<T>(xyz, corners + 2, 4), simd::gather3<T>(xyz, corners + 3, 4) };
+  const T wl[4] = { simd::gather<T>(w, corners, 4), simd::gather<T>(w, corners + 1, 4),
+    simd::gather<T>(w, corners + 2, 4), simd::gather<T>(w, corners + 3, 4) };
+  const auto r = lanes::tetVolume<T>(x[0], x[1], x[2], x[3], wl, simd::load<T>(&batch.restVolume[c]),
+    simd::load<T>(&batch.lambda[c]), simd::loadStrided<T>(params, 2), simd::loadStrided<T>(params + 1, 2));
+  apply<T, 4>(r, x, wl, corners, active, &batch.lambda[c], xyz);
+}
+
+/// Blocks of four lanes, then the rest one at a time. Inlined into one wrapper per SimdLevel,
+/// which compiles it for that level.
+template <class Batch>
+SOFTBODY_SIMD_INLINE void sweepRange(Batch& batch, std::size_t begin, std::size_t end, std::vector<Vec3>& x,
+  const std::vector<double>& w)
+{
+  double* xyz = x.data()->data();
+  std::size_t c = begin;
+  for (; c + simd::kWidth <= end; c += simd::kWidth)
+  {
+    projectBlock<Lanes4>(batch, c, xyz, w.data());
+  }
+  for (; c < end; ++c)
+  {
+    projectBlock<double>(batch, c, xyz, w.data());
+  }
+}
+
+void linksBaseline(DistanceBatch& b, std::size_t begin, std::size_t end, std::vector<Vec3>& x, const std::vector<double>& w)
+{
+  sweepRange(b, begin, end, x, w);
+}
+void volumesBaseline(VolumeBatch& b, std::size_t begin, std::size_t end, std::vector<Vec3>& x, const std::vector<double>& w)
+{
+  sweepRange(b, begin, end, x, w);
+}
+#if SOFTBODY_HAVE_AVX2_PATH
+SOFTBODY_TARGET_AVX2 void linksAvx2(
+  DistanceBatch& b, std::size_t begin, std::size_t end, std::vector<Vec3>& x, const std::vector<double>& w)
+{
+  sweepRange(b, begin, end, x, w);
+}
+SOFTBODY_TARGET_AVX2 void volumesAvx2(
+  VolumeBatch& b, std::size_t begin, std::size_t end, std::vector<Vec3>& x, const std::vector<double>& w)
+{
+  sweepRange(b, begin, end, x, w);
+}
+#endif
+} // namespace
+
+void projectLinksWide(DistanceBatch& batch, std::size_t begin, std::size_t end, std::vector<Vec3>& x,
+  const std::vector<double>& w, SimdLevel level)
+{
+#if SOFTBODY_HAVE_AVX2_PATH
+  if (level == SimdLevel::Avx2)
+  {
+    linksAvx2(batch, begin, end, x, w);
+    return;
+  }
+#endif
+  (void)level;
+  linksBaseline(batch, begin, end, x, w);
+}
+
+void projectVolumesWide(VolumeBatch& batch, std::size_t begin, std::size_t end, std::vector<Vec3>& x,
+  const std::vector<double>& w, SimdLevel level)
+{
+#if SOFTBODY_HAVE_AVX2_PATH
+  if (level == SimdLevel::Avx2)
+  {
+    volumesAvx2(batch, begin, end, x, w);
+    return;
+  }
+#endif
+  (void)level;
+  volumesBaseline(batch, begin, end, x, w);
+}
+
+} // namespace softbody
