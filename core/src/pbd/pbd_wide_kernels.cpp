@@ -43,10 +43,9 @@ SOFTBODY_SIMD_INLINE void apply(const lanes::ProjectionLanes<T, N>& r, const sim
   {
     simd::scatter3<T>(xyz, corners + k, N, x[k] + r.dx[k], active & simd::laneBits(w[k] > zero));
   }
-  // An inactive lane adds +0 (dLambda is 0 there): the same bits, since a multiplier, summed
-  // from +0, is never -0.
-  const T sum = simd::load<T>(lambda) + simd::select(simd::laneMask<T>(active), r.dLambda, zero);
-  simd::store(lambda, sum);
+  // Inactive lanes keep their multiplier's bits (adding 0 would turn -0 into +0).
+  const T old = simd::load<T>(lambda);
+  simd::store(lambda, simd::select(simd::laneMask<T>(active), old + r.dLambda, old));
 }
 
 template <class T>
