@@ -86,22 +86,26 @@ SOFTBODY_SIMD_INLINE void volumeBlock(const Topology& topology, const ElementCon
   }
 }
 
-/// Elements [begin, end): blocks of four lanes, then the rest one at a time. Inlined into one
-/// wrapper per SimdLevel, which compiles it for that level (common/simd.h).
-template <bool Springs>
+/// Elements [begin, end): blocks of `Lanes` (double: one element at a time), then the rest one at
+/// a time. Inlined into one wrapper per SimdLevel, which compiles it for that level
+/// (common/simd.h); the baseline runs one lane, as in pbd_wide_kernels.cpp.
+template <class Lanes, bool Springs>
 SOFTBODY_SIMD_INLINE void elementRange(const Topology& topology, const ElementConstants& c, std::size_t begin,
   std::size_t end, const double* x, const double* v, double* out)
 {
   std::size_t i = begin;
-  for (; i + simd::kWidth <= end; i += simd::kWidth)
+  if constexpr (!std::is_same_v<Lanes, double>)
   {
-    if constexpr (Springs)
+    for (; i + simd::kWidth <= end; i += simd::kWidth)
     {
-      springBlock<simd::Lanes4>(topology, c, i, x, v, out);
-    }
-    else
-    {
-      volumeBlock<simd::Lanes4>(topology, c, i, x, v, out);
+      if constexpr (Springs)
+      {
+        springBlock<Lanes>(topology, c, i, x, v, out);
+      }
+      else
+      {
+        volumeBlock<Lanes>(topology, c, i, x, v, out);
+      }
     }
   }
   for (; i < end; ++i)
@@ -121,7 +125,7 @@ template <bool Springs>
 void elementRangeBaseline(const Topology& topology, const ElementConstants& c, std::size_t begin,
   std::size_t end, const double* x, const double* v, double* out)
 {
-  elementRange<Springs>(topology, c, begin, end, x, v, out);
+  elementRange<double, Springs>(topology, c, begin, end, x, v, out);
 }
 
 #if SOFTBODY_HAVE_AVX2_PATH
@@ -129,7 +133,7 @@ template <bool Springs>
 SOFTBODY_TARGET_AVX2 void elementRangeAvx2(const Topology& topology, const ElementConstants& c,
   std::size_t begin, std::size_t end, const double* x, const double* v, double* out)
 {
-  elementRange<Springs>(topology, c, begin, end, x, v, out);
+  elementRange<simd::Lanes4, Springs>(topology, c, begin, end, x, v, out);
 }
 #endif
 

@@ -85,17 +85,22 @@ SOFTBODY_SIMD_INLINE void projectBlock(VolumeBatch& batch, std::size_t c, double
   apply<T, 4>(r, x, wl, corners, active, &batch.lambda[c], xyz);
 }
 
-/// Blocks of four lanes, then the rest one at a time. Inlined into one wrapper per SimdLevel,
-/// which compiles it for that level.
-template <class Batch>
+/// Blocks of `Lanes` (double: one constraint at a time), then the rest one at a time. Inlined
+/// into one wrapper per SimdLevel, which compiles it for that level. The baseline level runs
+/// one lane: the four-lane type lowered to SSE2 pairs ran at half the scalar speed (measured by
+/// bench_wide_kernels), since the compiler moves such vectors through memory.
+template <class Lanes, class Batch>
 SOFTBODY_SIMD_INLINE void sweepRange(Batch& batch, std::size_t begin, std::size_t end, std::vector<Vec3>& x,
   const std::vector<double>& w)
 {
   double* xyz = x.data()->data();
   std::size_t c = begin;
-  for (; c + simd::kWidth <= end; c += simd::kWidth)
+  if constexpr (!std::is_same_v<Lanes, double>)
   {
-    projectBlock<Lanes4>(batch, c, xyz, w.data());
+    for (; c + simd::kWidth <= end; c += simd::kWidth)
+    {
+      projectBlock<Lanes>(batch, c, xyz, w.data());
+    }
   }
   for (; c < end; ++c)
   {
@@ -105,22 +110,22 @@ SOFTBODY_SIMD_INLINE void sweepRange(Batch& batch, std::size_t begin, std::size_
 
 void linksBaseline(DistanceBatch& b, std::size_t begin, std::size_t end, std::vector<Vec3>& x, const std::vector<double>& w)
 {
-  sweepRange(b, begin, end, x, w);
+  sweepRange<double>(b, begin, end, x, w);
 }
 void volumesBaseline(VolumeBatch& b, std::size_t begin, std::size_t end, std::vector<Vec3>& x, const std::vector<double>& w)
 {
-  sweepRange(b, begin, end, x, w);
+  sweepRange<double>(b, begin, end, x, w);
 }
 #if SOFTBODY_HAVE_AVX2_PATH
 SOFTBODY_TARGET_AVX2 void linksAvx2(
   DistanceBatch& b, std::size_t begin, std::size_t end, std::vector<Vec3>& x, const std::vector<double>& w)
 {
-  sweepRange(b, begin, end, x, w);
+  sweepRange<Lanes4>(b, begin, end, x, w);
 }
 SOFTBODY_TARGET_AVX2 void volumesAvx2(
   VolumeBatch& b, std::size_t begin, std::size_t end, std::vector<Vec3>& x, const std::vector<double>& w)
 {
-  sweepRange(b, begin, end, x, w);
+  sweepRange<Lanes4>(b, begin, end, x, w);
 }
 #endif
 } // namespace
