@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#if defined(__GNUC__) && !defined(__clang__)
+#if defined(__GNUC__) // GCC and Clang
 #pragma GCC diagnostic ignored "-Wpsabi" // 32-byte vectors passed between inlined helpers only
 #endif
 

@@ -23,7 +23,7 @@
 #include <type_traits>
 
 
-#if defined(__GNUC__) && !defined(__clang__)
+#if defined(__GNUC__) // GCC and Clang
 #pragma GCC diagnostic push
 // Passing 32-byte vectors by value without AVX "changes the ABI": irrelevant here, every
 // function taking them is inlined.
@@ -332,6 +332,6 @@ SOFTBODY_SIMD_INLINE unsigned laneBits(Mask4 m)
 } // namespace simd
 } // namespace softbody
 
-#if defined(__GNUC__) && !defined(__clang__)
+#if defined(__GNUC__) // GCC and Clang
 #pragma GCC diagnostic pop
 #endif

@@ -69,7 +69,7 @@ enum class DistanceKind
   AtLeast   ///< |x0 - x1| >= rest (only pushes apart)
 };
 
-#if defined(__GNUC__) && !defined(__clang__)
+#if defined(__GNUC__) // GCC and Clang
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi" // the lane templates are always inlined (common/simd.h)
 #endif
@@ -168,7 +168,7 @@ inline Vec3 fromLanes(const simd::Vec3Lanes<double>& v)
   return Vec3(v.x, v.y, v.z);
 }
 } // namespace lanes
-#if defined(__GNUC__) && !defined(__clang__)
+#if defined(__GNUC__) // GCC and Clang
 #pragma GCC diagnostic pop
 #endif
 
