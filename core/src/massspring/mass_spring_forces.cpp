@@ -29,10 +29,12 @@ constexpr std::int32_t kConsecutive[4] = { 0, 1, 2, 3 };
 constexpr std::int32_t kEveryFourth[4] = { 0, 4, 8, 12 };
 
 /// Pass 1, springs, for one lane (T = double) or four (T = simd::Lanes4): force on end a,
-///   f_a = -(k (l - l0) + k_d n.(v_a - v_b)) n,  n = d / l, d = p_a - p_b   (f_b = -f_a),
-/// computed as -(k (l - l0) + k_d (d.(v_a - v_b)) / l) / l times d: two divisions per spring
-/// where n = d / l took four. A zero-length spring has no direction; it exerts no force
-/// (guarded, never NaN).
+///   f_a = -(k (l - l0) + k_d n.(v_a - v_b)) n,  n = (p_a - p_b) / l   (f_b = -f_a).
+/// A zero-length spring has no direction; it exerts no force (guarded, never NaN).
+/// The operations and their order are those of the scalar code before the lanes, which the GPU
+/// shaders (gpu/shaders/spring_forces.comp) repeat bit for bit; folding the divisions (two
+/// instead of four) was measured no faster once four lanes share each division instruction,
+/// and would break that parity.
 template <class T>
 SOFTBODY_SIMD_INLINE void springBlock(const Topology& topology, const ElementConstants& c, std::size_t e,
   const double* x, const double* v, double* out)
@@ -40,23 +42,25 @@ SOFTBODY_SIMD_INLINE void springBlock(const Topology& topology, const ElementCon
   using simd::broadcast;
   const std::int32_t* ends = &topology.edges[e].a;
   const simd::Vec3Lanes<T> d = simd::gather3<T>(x, ends, 2) - simd::gather3<T>(x, ends + 1, 2);
-  const simd::Vec3Lanes<T> dv = simd::gather3<T>(v, ends, 2) - simd::gather3<T>(v, ends + 1, 2);
   const T rest = simd::load<T>(&c.restLength[e]);
   const T length = simd::sqrt(simd::dot(d, d));
   const auto hasDirection = simd::negate(length < broadcast<T>(1e-12) * rest);
+  const simd::Vec3Lanes<T> n = { d.x / length, d.y / length, d.z / length };
   const T stretch = length - rest;
-  const T stretchRate = simd::dot(d, dv) / length;
-  const T magnitude = -(simd::load<T>(&c.springStiffness[e]) * stretch +
-                        simd::load<T>(&c.springDamping[e]) * stretchRate) / length;
-  const T perLength = simd::select(hasDirection, magnitude, broadcast<T>(0.0));
-  simd::scatter3<T>(out + 3 * e, kConsecutive, 1, perLength * d, 0xfu);
+  const T stretchRate = simd::dot(n, simd::gather3<T>(v, ends, 2) - simd::gather3<T>(v, ends + 1, 2));
+  const T magnitude = -(simd::load<T>(&c.springStiffness[e]) * stretch + simd::load<T>(&c.springDamping[e]) * stretchRate);
+  const T zero = broadcast<T>(0.0);
+  const simd::Vec3Lanes<T> f = magnitude * n;
+  simd::scatter3<T>(out + 3 * e, kConsecutive, 1,
+    { simd::select(hasDirection, f.x, zero), simd::select(hasDirection, f.y, zero), simd::select(hasDirection, f.z, zero) },
+    0xfu);
 }
 
 /// Pass 1, volumes: f_k = s dV/dp_k with s = -(k' (V - V0) + k_d' dV/dt), dV/dt = sum g_j.v_j,
-/// written per corner (4 t + k). With G_k = 6 dV/dp_k (G1 = e2 x e3, G2 = e3 x e1,
-/// G3 = e1 x e2, G0 = -(G1 + G2 + G3), e_i = p_i - p0): V = e1.G1 / 6, dV/dt = sum G_j.v_j / 6,
-/// f_k = (s / 6) G_k. Three divisions per tet; dividing every gradient by 6 took 22, and the
-/// divider's throughput was what bounded this pass (README, Performance).
+/// written per corner (4 t + k), with the operations of the scalar code before the lanes (and of
+/// the GPU's volume_forces.comp and its gather): g_k = (e_i x e_j) / 6 from tetVolumeGradients,
+/// corner 0's force from its own cyclic cross product (p3 - p1) x (p2 - p1) / 6 as the GPU's
+/// gather computes it, so CPU and GPU stay bitwise equal.
 template <class T>
 SOFTBODY_SIMD_INLINE void volumeBlock(const Topology& topology, const ElementConstants& c, std::size_t t,
   const double* x, const double* v, double* out)
@@ -64,25 +68,30 @@ SOFTBODY_SIMD_INLINE void volumeBlock(const Topology& topology, const ElementCon
   using simd::broadcast;
   const std::int32_t* corners = topology.tets[t].data();
   const simd::Vec3Lanes<T> p0 = simd::gather3<T>(x, corners, 4);
-  const simd::Vec3Lanes<T> e1 = simd::gather3<T>(x, corners + 1, 4) - p0;
-  const simd::Vec3Lanes<T> e2 = simd::gather3<T>(x, corners + 2, 4) - p0;
-  const simd::Vec3Lanes<T> e3 = simd::gather3<T>(x, corners + 3, 4) - p0;
-  simd::Vec3Lanes<T> G[4];
-  G[1] = simd::cross(e2, e3);
-  G[2] = simd::cross(e3, e1);
-  G[3] = simd::cross(e1, e2);
-  G[0] = -((G[1] + G[2]) + G[3]);
+  const simd::Vec3Lanes<T> p1 = simd::gather3<T>(x, corners + 1, 4);
+  const simd::Vec3Lanes<T> p2 = simd::gather3<T>(x, corners + 2, 4);
+  const simd::Vec3Lanes<T> p3 = simd::gather3<T>(x, corners + 3, 4);
+  const simd::Vec3Lanes<T> e1 = p1 - p0, e2 = p2 - p0, e3 = p3 - p0;
   const T six = broadcast<T>(6.0);
-  const T volume = simd::dot(e1, G[1]) / six;
-  const T volumeRate = (((simd::dot(G[0], simd::gather3<T>(v, corners, 4)) +
-                           simd::dot(G[1], simd::gather3<T>(v, corners + 1, 4))) +
-                          simd::dot(G[2], simd::gather3<T>(v, corners + 2, 4))) +
-                         simd::dot(G[3], simd::gather3<T>(v, corners + 3, 4))) / six;
-  const T scale = -(simd::load<T>(&c.volumeStiffness[t]) * (volume - simd::load<T>(&c.restVolume[t])) +
-                    simd::load<T>(&c.volumeDamping[t]) * volumeRate) / six;
+  auto overSix = [six](const simd::Vec3Lanes<T>& a) { return simd::Vec3Lanes<T>{ a.x / six, a.y / six, a.z / six }; };
+  const simd::Vec3Lanes<T> cross1 = simd::cross(e2, e3);
+  simd::Vec3Lanes<T> g[4];
+  g[1] = overSix(cross1);
+  g[2] = overSix(simd::cross(e3, e1));
+  g[3] = overSix(simd::cross(e1, e2));
+  g[0] = -((g[1] + g[2]) + g[3]);
+  const T volume = simd::dot(e1, cross1) / six;
+  T volumeRate = broadcast<T>(0.0);
   for (int k = 0; k < 4; ++k)
   {
-    simd::scatter3<T>(out + 3 * (4 * t + static_cast<std::size_t>(k)), kEveryFourth, 1, scale * G[k], 0xfu);
+    volumeRate = volumeRate + simd::dot(g[k], simd::gather3<T>(v, corners + k, 4));
+  }
+  const T scale = -(simd::load<T>(&c.volumeStiffness[t]) * (volume - simd::load<T>(&c.restVolume[t])) +
+                    simd::load<T>(&c.volumeDamping[t]) * volumeRate);
+  g[0] = overSix(simd::cross(p3 - p1, p2 - p1));
+  for (int k = 0; k < 4; ++k)
+  {
+    simd::scatter3<T>(out + 3 * (4 * t + static_cast<std::size_t>(k)), kEveryFourth, 1, scale * g[k], 0xfu);
   }
 }
 
