@@ -32,9 +32,10 @@ constexpr std::int32_t kEveryFourth[4] = { 0, 4, 8, 12 };
 ///   f_a = -(k (l - l0) + k_d n.(v_a - v_b)) n,  n = (p_a - p_b) / l   (f_b = -f_a).
 /// A zero-length spring has no direction; it exerts no force (guarded, never NaN).
 /// The operations and their order are those of the scalar code before the lanes, which the GPU
-/// shaders (gpu/shaders/spring_forces.comp) repeat bit for bit; folding the divisions (two
-/// instead of four) was measured no faster once four lanes share each division instruction,
-/// and would break that parity.
+/// shaders (gpu/shaders/spring_forces.comp) repeat bit for bit. Folding the divisions (two
+/// instead of four per spring, three instead of 22 per tet) was tried and reverted: it broke
+/// that parity, and this pass is bound by memory traffic more than by division (README,
+/// Performance, "Wide kernels").
 template <class T>
 SOFTBODY_SIMD_INLINE void springBlock(const Topology& topology, const ElementConstants& c, std::size_t e,
   const double* x, const double* v, double* out)
