@@ -1,89 +1,190 @@
 #include "softbody/massspring/mass_spring_forces.h"
 
 #include "softbody/common/parallel.h"
+#include "softbody/common/simd.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#if defined(__GNUC__) // GCC and Clang
+#pragma GCC diagnostic ignored "-Wpsabi" // 32-byte vectors passed between inlined helpers only
+#endif
 
 namespace softbody
 {
 namespace
 {
 
-// Grain sizes: large enough that a task outweighs TBB's scheduling cost (~1 us).
-constexpr std::size_t kElementGrain = 2048;
+// Element passes run in chunks of whole lane blocks; the gather keeps TBB's grain.
+constexpr std::size_t kElementChunk = 2048;
 constexpr std::size_t kVertexGrain = 1024;
 
-/// Pass 1, springs: force on end a of edge e,
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "positions are read as packed xyz triples");
+static_assert(sizeof(Edge) == 2 * sizeof(std::int32_t), "an edge's ends are read as an index pair");
+
+/// Offsets of four consecutive xyz triples (a contiguous transposed store).
+constexpr std::int32_t kConsecutive[4] = { 0, 1, 2, 3 };
+/// Offsets of corner k of four consecutive tets in the 4 t + k corner layout.
+constexpr std::int32_t kEveryFourth[4] = { 0, 4, 8, 12 };
+
+/// Pass 1, springs, for one lane (T = double) or four (T = simd::Lanes4): force on end a,
 ///   f_a = -(k (l - l0) + k_d n.(v_a - v_b)) n,  n = (p_a - p_b) / l   (f_b = -f_a).
 /// A zero-length spring has no direction; it exerts no force (guarded, never NaN).
-void springForces(const Topology& topology, const ElementConstants& c,
-  const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& out)
+/// The operations and their order are those of the scalar code before the lanes, which the GPU
+/// shaders (gpu/shaders/spring_forces.comp) repeat bit for bit. Folding the divisions (two
+/// instead of four per spring, three instead of 22 per tet) was tried and reverted: it broke
+/// that parity, and this pass is bound by memory traffic more than by division (README,
+/// Performance, "Wide kernels").
+template <class T>
+SOFTBODY_SIMD_INLINE void springBlock(const Topology& topology, const ElementConstants& c, std::size_t e,
+  const double* x, const double* v, double* out)
 {
-  parallelFor(topology.edges.size(), kElementGrain, [&](std::size_t e) {
-    const Edge& edge = topology.edges[e];
-    const Vec3 d = x[edge.a] - x[edge.b];
-    const double length = d.norm();
-    if (length < 1e-12 * c.restLength[e])
+  using simd::broadcast;
+  const std::int32_t* ends = &topology.edges[e].a;
+  const simd::Vec3Lanes<T> d = simd::gather3<T>(x, ends, 2) - simd::gather3<T>(x, ends + 1, 2);
+  const T rest = simd::load<T>(&c.restLength[e]);
+  const T length = simd::sqrt(simd::dot(d, d));
+  const auto hasDirection = simd::negate(length < broadcast<T>(1e-12) * rest);
+  const simd::Vec3Lanes<T> n = { d.x / length, d.y / length, d.z / length };
+  const T stretch = length - rest;
+  const T stretchRate = simd::dot(n, simd::gather3<T>(v, ends, 2) - simd::gather3<T>(v, ends + 1, 2));
+  const T magnitude = -(simd::load<T>(&c.springStiffness[e]) * stretch + simd::load<T>(&c.springDamping[e]) * stretchRate);
+  const T zero = broadcast<T>(0.0);
+  const simd::Vec3Lanes<T> f = magnitude * n;
+  simd::scatter3<T>(out + 3 * e, kConsecutive, 1,
+    { simd::select(hasDirection, f.x, zero), simd::select(hasDirection, f.y, zero), simd::select(hasDirection, f.z, zero) },
+    0xfu);
+}
+
+/// Pass 1, volumes: f_k = s dV/dp_k with s = -(k' (V - V0) + k_d' dV/dt), dV/dt = sum g_j.v_j,
+/// written per corner (4 t + k), with the operations of the scalar code before the lanes (and of
+/// the GPU's volume_forces.comp and its gather): g_k = (e_i x e_j) / 6 from tetVolumeGradients,
+/// corner 0's force from its own cyclic cross product (p3 - p1) x (p2 - p1) / 6 as the GPU's
+/// gather computes it, so CPU and GPU stay bitwise equal.
+template <class T>
+SOFTBODY_SIMD_INLINE void volumeBlock(const Topology& topology, const ElementConstants& c, std::size_t t,
+  const double* x, const double* v, double* out)
+{
+  using simd::broadcast;
+  const std::int32_t* corners = topology.tets[t].data();
+  const simd::Vec3Lanes<T> p0 = simd::gather3<T>(x, corners, 4);
+  const simd::Vec3Lanes<T> p1 = simd::gather3<T>(x, corners + 1, 4);
+  const simd::Vec3Lanes<T> p2 = simd::gather3<T>(x, corners + 2, 4);
+  const simd::Vec3Lanes<T> p3 = simd::gather3<T>(x, corners + 3, 4);
+  const simd::Vec3Lanes<T> e1 = p1 - p0, e2 = p2 - p0, e3 = p3 - p0;
+  const T six = broadcast<T>(6.0);
+  auto overSix = [six](const simd::Vec3Lanes<T>& a) { return simd::Vec3Lanes<T>{ a.x / six, a.y / six, a.z / six }; };
+  const simd::Vec3Lanes<T> cross1 = simd::cross(e2, e3);
+  simd::Vec3Lanes<T> g[4];
+  g[1] = overSix(cross1);
+  g[2] = overSix(simd::cross(e3, e1));
+  g[3] = overSix(simd::cross(e1, e2));
+  g[0] = -((g[1] + g[2]) + g[3]);
+  const T volume = simd::dot(e1, cross1) / six;
+  T volumeRate = broadcast<T>(0.0);
+  for (int k = 0; k < 4; ++k)
+  {
+    volumeRate = volumeRate + simd::dot(g[k], simd::gather3<T>(v, corners + k, 4));
+  }
+  const T scale = -(simd::load<T>(&c.volumeStiffness[t]) * (volume - simd::load<T>(&c.restVolume[t])) +
+                    simd::load<T>(&c.volumeDamping[t]) * volumeRate);
+  g[0] = overSix(simd::cross(p3 - p1, p2 - p1));
+  for (int k = 0; k < 4; ++k)
+  {
+    simd::scatter3<T>(out + 3 * (4 * t + static_cast<std::size_t>(k)), kEveryFourth, 1, scale * g[k], 0xfu);
+  }
+}
+
+/// Elements [begin, end): blocks of `Lanes` (double: one element at a time), then the rest one at
+/// a time. Inlined into one wrapper per SimdLevel, which compiles it for that level
+/// (common/simd.h); the baseline runs one lane, as in pbd_wide_kernels.cpp.
+template <class Lanes, bool Springs>
+SOFTBODY_SIMD_INLINE void elementRange(const Topology& topology, const ElementConstants& c, std::size_t begin,
+  std::size_t end, const double* x, const double* v, double* out)
+{
+  std::size_t i = begin;
+  if constexpr (!std::is_same_v<Lanes, double>)
+  {
+    for (; i + simd::kWidth <= end; i += simd::kWidth)
     {
-      out[e].setZero();
+      if constexpr (Springs)
+      {
+        springBlock<Lanes>(topology, c, i, x, v, out);
+      }
+      else
+      {
+        volumeBlock<Lanes>(topology, c, i, x, v, out);
+      }
+    }
+  }
+  for (; i < end; ++i)
+  {
+    if constexpr (Springs)
+    {
+      springBlock<double>(topology, c, i, x, v, out);
+    }
+    else
+    {
+      volumeBlock<double>(topology, c, i, x, v, out);
+    }
+  }
+}
+
+template <bool Springs>
+void elementRangeBaseline(const Topology& topology, const ElementConstants& c, std::size_t begin,
+  std::size_t end, const double* x, const double* v, double* out)
+{
+  elementRange<double, Springs>(topology, c, begin, end, x, v, out);
+}
+
+#if SOFTBODY_HAVE_AVX2_PATH
+template <bool Springs>
+SOFTBODY_TARGET_AVX2 void elementRangeAvx2(const Topology& topology, const ElementConstants& c,
+  std::size_t begin, std::size_t end, const double* x, const double* v, double* out)
+{
+  elementRange<simd::Lanes4, Springs>(topology, c, begin, end, x, v, out);
+}
+#endif
+
+/// One element pass over all edges (Springs) or tets, in parallel chunks. Each element writes
+/// only its own output, so any split gives the same result.
+template <bool Springs>
+void elementPass(const Topology& topology, const ElementConstants& c, const std::vector<Vec3>& positions,
+  const std::vector<Vec3>& velocities, std::vector<Vec3>& out, SimdLevel level)
+{
+  const std::size_t count = Springs ? topology.edges.size() : topology.tets.size();
+  const double* x = positions.data()->data();
+  const double* v = velocities.data()->data();
+  double* o = out.data()->data();
+  const std::size_t chunks = (count + kElementChunk - 1) / kElementChunk;
+  parallelFor(chunks, 1, [&](std::size_t k) {
+    const std::size_t begin = k * kElementChunk;
+    const std::size_t end = std::min(count, begin + kElementChunk);
+#if SOFTBODY_HAVE_AVX2_PATH
+    if (level == SimdLevel::Avx2)
+    {
+      elementRangeAvx2<Springs>(topology, c, begin, end, x, v, o);
       return;
     }
-    const Vec3 n = d / length;
-    const double stretch = length - c.restLength[e];
-    const double stretchRate = n.dot(v[edge.a] - v[edge.b]);
-    out[e] = -(c.springStiffness[e] * stretch + c.springDamping[e] * stretchRate) * n;
+#endif
+    elementRangeBaseline<Springs>(topology, c, begin, end, x, v, o);
   });
-}
-
-/// dV/dp of one corner, without computing the other three.
-Vec3 cornerVolumeGradient(const std::vector<Vec3>& x, const Tet& tet, int corner)
-{
-  // Cyclic relabelling keeps the orientation: g_c = (1/6) (p_k - p_j) x (p_l - p_j) with the
-  // sign fixed by the parity of the permutation (c, j, k, l).
-  static constexpr int kOthers[4][3] = { { 1, 3, 2 }, { 0, 2, 3 }, { 0, 3, 1 }, { 0, 1, 2 } };
-  const Vec3& pj = x[tet[kOthers[corner][0]]];
-  const Vec3& pk = x[tet[kOthers[corner][1]]];
-  const Vec3& pl = x[tet[kOthers[corner][2]]];
-  return (pk - pj).cross(pl - pj) / 6.0;
-}
-
-/// Pass 1, volumes: f_i = s dV/dp_i with s = -(k' (V - V0) + k_d' dV/dt), dV/dt = sum g_j.v_j,
-/// written per corner (4 t + i). Each corner's gradient is computed as the gather computed it
-/// before (cornerVolumeGradient), so the forces are the same bit for bit.
-void volumeCornerForces(const Topology& topology, const ElementConstants& c,
-  const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& out)
-{
-  parallelFor(topology.tets.size(), kElementGrain, [&](std::size_t t) {
-    const Tet& tet = topology.tets[t];
-    const auto g = tetVolumeGradients(x[tet[0]], x[tet[1]], x[tet[2]], x[tet[3]]);
-    const double volume = signedTetVolume(x[tet[0]], x[tet[1]], x[tet[2]], x[tet[3]]);
-    double volumeRate = 0.0;
-    for (int k = 0; k < 4; ++k)
-    {
-      volumeRate += g[k].dot(v[tet[k]]);
-    }
-    const double scale = -(c.volumeStiffness[t] * (volume - c.restVolume[t]) + c.volumeDamping[t] * volumeRate);
-    for (int k = 0; k < 4; ++k)
-    {
-      out[4 * t + static_cast<std::size_t>(k)] = scale * cornerVolumeGradient(x, tet, k);
-    }
-  });
+  (void)level;
 }
 
 } // namespace
 
 void computeInternalForces(const Topology& topology, const ElementConstants& constants,
   const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, ForceScratch& scratch,
-  std::vector<Vec3>& forces)
+  std::vector<Vec3>& forces, SimdLevel level)
 {
   scratch.springForce.resize(topology.edges.size());
-  springForces(topology, constants, positions, velocities, scratch.springForce);
+  elementPass<true>(topology, constants, positions, velocities, scratch.springForce, level);
   if (constants.hasVolumeTerm)
   {
     scratch.tetCornerForce.resize(4 * topology.tets.size());
-    volumeCornerForces(topology, constants, positions, velocities, scratch.tetCornerForce);
+    elementPass<false>(topology, constants, positions, velocities, scratch.tetCornerForce, level);
   }
 
   // Pass 2: gather in CSR order (fixed), one writer per vertex.
@@ -136,7 +237,7 @@ double maxStretchRatio(const Topology& topology, const ElementConstants& constan
   // result on purpose (std::max would silently drop it).
   const double nan = std::numeric_limits<double>::quiet_NaN();
   return parallelReduce(
-    topology.edges.size(), kElementGrain, 0.0,
+    topology.edges.size(), kElementChunk, 0.0,
     [&](std::size_t e) {
       const Edge& edge = topology.edges[e];
       return (positions[edge.a] - positions[edge.b]).norm() / constants.restLength[e];

@@ -112,6 +112,7 @@ void PbdSimulation::storeLinksAndVolumesByColor()
   for (BatchSchedule* schedule : { &LinkSchedule, &VolumeSchedule })
   {
     std::iota(schedule->coloring.order.begin(), schedule->coloring.order.end(), 0);
+    schedule->storedByColor = true;
   }
 }
 

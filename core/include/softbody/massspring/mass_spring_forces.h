@@ -7,6 +7,7 @@
 // No atomics, no per-thread accumulation buffers, identical results for any thread count.
 #pragma once
 
+#include "softbody/common/simd.h"
 #include "softbody/material/material.h"
 
 #include <vector>
@@ -26,10 +27,11 @@ struct ForceScratch
 };
 
 /// Sum of spring and volume forces on every vertex, including their damping terms.
-/// `forces` is resized to the vertex count and overwritten.
+/// `forces` is resized to the vertex count and overwritten. The element passes run four
+/// elements at a time (common/simd.h); every SimdLevel gives the same bits.
 void computeInternalForces(const Topology& topology, const ElementConstants& constants,
   const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, ForceScratch& scratch,
-  std::vector<Vec3>& forces);
+  std::vector<Vec3>& forces, SimdLevel level = bestSimdLevel());
 
 /// Elastic potential energy sum_e k_D/2 C_D^2 + sum_t k_V/2 C_V^2 [J] (for tests and checks).
 double elasticEnergy(const Topology& topology, const ElementConstants& constants,

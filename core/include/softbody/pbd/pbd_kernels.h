@@ -11,6 +11,7 @@
 #pragma once
 
 #include "softbody/common/geometry.h"
+#include "softbody/common/simd.h"
 
 #include <array>
 #include <cmath>
@@ -68,43 +69,138 @@ enum class DistanceKind
   AtLeast   ///< |x0 - x1| >= rest (only pushes apart)
 };
 
+#if defined(__GNUC__) // GCC and Clang
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi" // the lane templates are always inlined (common/simd.h)
+#endif
+namespace lanes
+{
+/// What a distance or volume projection asks of its corners, for one lane (T = double) or
+/// four (T = simd::Lanes4). The scalar kernels below and the colored solver's wide kernels
+/// (pbd_wide_kernels.h) both run these templates, so they agree bit for bit.
+template <class T, int N>
+struct ProjectionLanes
+{
+  simd::Vec3Lanes<T> dx[N]; ///< corrections, weighted by inverse mass [m]
+  T dLambda;                ///< change of the multiplier; 0 where inactive
+  T residual;               ///< C + alphaTilde lambda before the projection; 0 where inactive
+};
+
+/// Distance constraint C = |d| - rest, d = x0 - x1, gradients +-d/|d|. With the XPBD step
+/// dLambda = -scale (C + alphaTilde lambda) / (w0 + w1 + alphaTilde), the corrections are
+/// dx0 = w0 dLambda d/|d| and dx1 = -w1 dLambda d/|d|, computed as (w dLambda/|d|) d: two
+/// divisions per link instead of four (n = d/|d| divided each component).
+template <class T>
+SOFTBODY_SIMD_INLINE ProjectionLanes<T, 2> distance(const simd::Vec3Lanes<T>& x0, const simd::Vec3Lanes<T>& x1,
+  T w0, T w1, T rest, bool atLeast, T lambda, T scale, T alphaTilde)
+{
+  using simd::broadcast;
+  const T zero = broadcast<T>(0.0);
+  const simd::Vec3Lanes<T> d = x0 - x1;
+  const T length = simd::sqrt(simd::dot(d, d));
+  const T C = length - rest;
+  // Coincident points have no direction to move along; a satisfied AtLeast asks for nothing.
+  auto moves = simd::negate(length <= zero);
+  if (atLeast)
+  {
+    moves = simd::both(moves, C < zero);
+  }
+  const auto stiff = simd::both(moves, scale != zero); // zero stiffness asks for nothing
+  const T residual = C + alphaTilde * lambda;
+  const T denominator = (w0 + w1) + alphaTilde;
+  // Both ends pinned (denominator 0): nothing can move.
+  const auto solves = simd::both(stiff, denominator > zero);
+  ProjectionLanes<T, 2> out;
+  out.residual = simd::select(stiff, residual, zero);
+  out.dLambda = simd::select(solves, (-scale * residual) / denominator, zero);
+  const T perLength = simd::select(moves, out.dLambda / length, zero);
+  out.dx[0] = (w0 * perLength) * d;
+  out.dx[1] = (-(w1 * perLength)) * d;
+  return out;
+}
+
+/// Tet volume constraint C = V - restVolume with V = e1.(e2 x e3)/6 (e_i = x_i - x0), written
+/// with G_k = 6 dV/dx_k (G1 = e2 x e3, G2 = e3 x e1, G3 = e1 x e2, G0 = -(G1 + G2 + G3)):
+///   sum_k w_k |g_k|^2 + alphaTilde = (sum_k w_k |G_k|^2 + 36 alphaTilde) / 36
+///   q = -scale (C + alphaTilde lambda) / (sum_k w_k |G_k|^2 + 36 alphaTilde)
+///   dLambda = 36 q,   dx_k = w_k dLambda g_k = (6 q w_k) G_k.
+/// Two divisions per tet; the gradients divided by 6 took nine more (the divider's throughput
+/// was the kernel's bottleneck: see README, Performance).
+template <class T>
+SOFTBODY_SIMD_INLINE ProjectionLanes<T, 4> tetVolume(const simd::Vec3Lanes<T>& x0, const simd::Vec3Lanes<T>& x1,
+  const simd::Vec3Lanes<T>& x2, const simd::Vec3Lanes<T>& x3, const T (&w)[4], T restVolume, T lambda, T scale,
+  T alphaTilde)
+{
+  using simd::broadcast;
+  const T zero = broadcast<T>(0.0);
+  const simd::Vec3Lanes<T> e1 = x1 - x0, e2 = x2 - x0, e3 = x3 - x0;
+  ProjectionLanes<T, 4> out;
+  simd::Vec3Lanes<T>(&G)[4] = out.dx; // the gradients, scaled in place into the corrections
+  G[1] = simd::cross(e2, e3);
+  G[2] = simd::cross(e3, e1);
+  G[3] = simd::cross(e1, e2);
+  G[0] = -((G[1] + G[2]) + G[3]);
+  const T C = simd::dot(e1, G[1]) / broadcast<T>(6.0) - restVolume;
+  const T weightedGradient2 = ((w[0] * simd::dot(G[0], G[0]) + w[1] * simd::dot(G[1], G[1])) +
+                                w[2] * simd::dot(G[2], G[2])) + w[3] * simd::dot(G[3], G[3]);
+  const auto stiff = scale != zero; // zero stiffness asks for nothing
+  const T residual = C + alphaTilde * lambda;
+  const T denominator = weightedGradient2 + broadcast<T>(36.0) * alphaTilde;
+  // All corners pinned, or a flat tet (zero gradients): nothing can move.
+  const auto solves = simd::both(stiff, denominator > zero);
+  const T q = simd::select(solves, (-scale * residual) / denominator, zero);
+  out.residual = simd::select(stiff, residual, zero);
+  out.dLambda = broadcast<T>(36.0) * q;
+  const T sixQ = broadcast<T>(6.0) * q;
+  for (int k = 0; k < 4; ++k)
+  {
+    G[k] = (w[k] * sixQ) * G[k];
+  }
+  return out;
+}
+
+inline simd::Vec3Lanes<double> toLanes(const Vec3& v)
+{
+  return { v.x(), v.y(), v.z() };
+}
+inline Vec3 fromLanes(const simd::Vec3Lanes<double>& v)
+{
+  return Vec3(v.x, v.y, v.z);
+}
+} // namespace lanes
+#if defined(__GNUC__) // GCC and Clang
+#pragma GCC diagnostic pop
+#endif
+
 /// Distance constraint C = |x0 - x1| - rest; gradients n and -n with n = (x0 - x1) / |x0 - x1|.
 inline Projection<2> projectDistance(const Vec3& x0, const Vec3& x1, double w0, double w1,
   double rest, DistanceKind kind, double lambda, const ProjectionParameters& p)
 {
+  const auto r = lanes::distance<double>(lanes::toLanes(x0), lanes::toLanes(x1), w0, w1, rest,
+    kind == DistanceKind::AtLeast, lambda, p.scale, p.alphaTilde);
   Projection<2> out;
-  const Vec3 d = x0 - x1;
-  const double length = d.norm();
-  const double C = length - rest;
-  if (length <= 0.0 || (kind == DistanceKind::AtLeast && C >= 0.0))
-  {
-    return out; // coincident points have no direction to move along
-  }
-  const Vec3 n = d / length;
-  out.dLambda = detail::lagrangeStep(C, w0 + w1, lambda, p, out.residual);
-  out.dx[0] = w0 * out.dLambda * n;
-  out.dx[1] = -w1 * out.dLambda * n;
+  out.dx[0] = lanes::fromLanes(r.dx[0]);
+  out.dx[1] = lanes::fromLanes(r.dx[1]);
+  out.dLambda = r.dLambda;
+  out.residual = r.residual;
   return out;
 }
 
 /// Tet volume constraint C = V(x) - restVolume (signed volume, so an inverted tet is pushed back
-/// through zero); gradients from tetVolumeGradients.
+/// through zero); gradients dV/dx_k as tetVolumeGradients (geometry.h) gives them.
 inline Projection<4> projectTetVolume(const std::array<Vec3, 4>& x, const std::array<double, 4>& w,
   double restVolume, double lambda, const ProjectionParameters& p)
 {
+  const double wl[4] = { w[0], w[1], w[2], w[3] };
+  const auto r = lanes::tetVolume<double>(lanes::toLanes(x[0]), lanes::toLanes(x[1]), lanes::toLanes(x[2]),
+    lanes::toLanes(x[3]), wl, restVolume, lambda, p.scale, p.alphaTilde);
   Projection<4> out;
-  const double C = signedTetVolume(x[0], x[1], x[2], x[3]) - restVolume;
-  const std::array<Vec3, 4> g = tetVolumeGradients(x[0], x[1], x[2], x[3]);
-  double weightedGradient2 = 0.0;
   for (int k = 0; k < 4; ++k)
   {
-    weightedGradient2 += w[k] * g[k].squaredNorm();
+    out.dx[static_cast<std::size_t>(k)] = lanes::fromLanes(r.dx[k]);
   }
-  out.dLambda = detail::lagrangeStep(C, weightedGradient2, lambda, p, out.residual);
-  for (int k = 0; k < 4; ++k)
-  {
-    out.dx[k] = w[k] * out.dLambda * g[k];
-  }
+  out.dLambda = r.dLambda;
+  out.residual = r.residual;
   return out;
 }
 

@@ -11,9 +11,11 @@
 
 #include "softbody/mesh/graph_coloring.h"
 #include "softbody/common/parallel.h"
+#include "softbody/pbd/pbd_wide_kernels.h"
 
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace softbody
@@ -25,6 +27,9 @@ struct BatchSchedule
 {
   Csr particleSlots; ///< particle -> c * Arity + k
   Coloring coloring;
+  /// The batch is stored color by color (coloring.order is the identity): the colored solver
+  /// then runs the wide kernels over each color's contiguous range.
+  bool storedByColor = false;
 };
 
 template <class Batch>
@@ -83,6 +88,7 @@ template <class Batch>
 void coloredGaussSeidelSweep(
   Batch& batch, const BatchSchedule& schedule, std::vector<Vec3>& x, const std::vector<double>& w)
 {
+  constexpr bool hasWideKernel = std::is_same_v<Batch, DistanceBatch> || std::is_same_v<Batch, VolumeBatch>;
   const Coloring& coloring = schedule.coloring;
   for (std::size_t color = 0; color < coloring.colorCount(); ++color)
   {
@@ -93,6 +99,29 @@ void coloredGaussSeidelSweep(
     // each core works on the same region of the body color after color. With TBB's dynamic
     // split the parts moved between the cores every color, pulling the vertices' cache lines
     // across with them: 2 threads ran slower than 1 (issue 15).
+    if constexpr (hasWideKernel)
+    {
+      if (schedule.storedByColor)
+      {
+        // Chunks of whole lane blocks; any split gives the same result (pbd_wide_kernels.h).
+        constexpr std::size_t kChunk = 256;
+        static_assert(kChunk % simd::kWidth == 0);
+        const std::size_t chunks = (end - begin + kChunk - 1) / kChunk;
+        parallelForContiguous(chunks, 1, [&](std::size_t k) {
+          const std::size_t first = begin + k * kChunk;
+          const std::size_t last = std::min(end, first + kChunk);
+          if constexpr (std::is_same_v<Batch, DistanceBatch>)
+          {
+            projectLinksWide(batch, first, last, x, w);
+          }
+          else
+          {
+            projectVolumesWide(batch, first, last, x, w);
+          }
+        });
+        continue;
+      }
+    }
     parallelForContiguous(end - begin, 256, [&](std::size_t i) {
       detail::projectAndApply(batch, static_cast<std::size_t>(coloring.order[begin + i]), x, w);
     });

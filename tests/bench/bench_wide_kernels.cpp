@@ -1,0 +1,285 @@
+// The wide (four-lane) kernels against the one-at-a-time kernels, on each mesh renumbered along a
+// Morton curve, measured in the same run (issue 15, item 2):
+//   - XPBD: one iteration of links + tet volumes swept color by color (the parallel
+//     Gauss-Seidel solver's storage), per constraint ('scalar'), with the wide kernels at the
+//     baseline level (SSE2: two doubles per instruction) and at AVX2 (four); sequential
+//     Gauss-Seidel over the same batches for reference (its projections depend on each other,
+//     so it stays scalar); the wide sweep at all threads;
+//   - mass-spring: the internal forces (both element passes and the per-vertex gather) at each
+//     level, and at all threads.
+// 1-thread times are the calling thread's CPU time (min of --repeat runs; other processes
+// compiling on a shared machine do not count), all-thread times are wall time. Each row also
+// checks that the scalar and every wide sweep end in the same bits. 'x bw' is the time over the
+// constraint data an iteration streams at least (indices, rest value, the two per-step constants,
+// multiplier read and written, broken flag: 49 B per link, 57 B per tet), at the triad bandwidth
+// this process measures.
+//
+// Usage: bench_wide_kernels [--smoke] [--data <shared data dir>] [--mesh <name or file>]
+//                           [--repeat <timed runs>]
+#include "bench_meshes.h"
+#include "bench_options.h"
+#include "memory_bandwidth.h"
+
+#include "softbody/common/simd.h"
+#include "softbody/massspring/mass_spring_forces.h"
+#include "softbody/mesh/graph_coloring.h"
+#include "softbody/mesh/reorder.h"
+#include "softbody/mesh/topology.h"
+#include "softbody/pbd/pbd_solvers.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <numeric>
+#include <random>
+
+using namespace softbody;
+
+namespace
+{
+
+template <typename T>
+void permute(std::vector<T>& v, const std::vector<std::int32_t>& order)
+{
+  std::vector<T> sorted(order.size());
+  for (std::size_t s = 0; s < order.size(); ++s)
+  {
+    sorted[s] = v[static_cast<std::size_t>(order[s])];
+  }
+  v = std::move(sorted);
+}
+
+struct Body
+{
+  std::vector<Vec3> x;
+  std::vector<double> w;
+  DistanceBatch links;
+  VolumeBatch volumes;
+  BatchSchedule linkSchedule, volumeSchedule;
+};
+
+/// XPBD batches of the mesh stored color by color, compliant (alphaTilde of a soft rubber at a
+/// 1 ms step), positions jittered by 1% of the mean edge so every constraint has work.
+Body makeBody(const std::vector<Vec3>& points, const Topology& topology)
+{
+  Body body;
+  body.w.assign(points.size(), 1.0);
+  double meanEdge = 0.0;
+  for (const Edge& e : topology.edges)
+  {
+    meanEdge += (points[e.a] - points[e.b]).norm();
+    body.links.ends.push_back({ e.a, e.b });
+    body.links.rest.push_back((points[e.a] - points[e.b]).norm());
+  }
+  meanEdge /= double(topology.edges.size());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.01 * meanEdge, 0.01 * meanEdge);
+  body.x = points;
+  for (Vec3& p : body.x)
+  {
+    p += Vec3(u(rng), u(rng), u(rng));
+  }
+  ProjectionParameters p;
+  p.scale = 1.0;
+  p.alphaTilde = 1e-2;
+  body.links.broken.assign(body.links.ends.size(), 0);
+  body.links.lambda.assign(body.links.ends.size(), 0.0);
+  body.links.params.assign(body.links.ends.size(), p);
+  for (const Tet& t : topology.tets)
+  {
+    body.volumes.tets.push_back(t);
+    body.volumes.restVolume.push_back(signedTetVolume(points[t[0]], points[t[1]], points[t[2]], points[t[3]]));
+  }
+  body.volumes.broken.assign(body.volumes.tets.size(), 0);
+  body.volumes.lambda.assign(body.volumes.tets.size(), 0.0);
+  body.volumes.params.assign(body.volumes.tets.size(), p);
+  const std::vector<char> movable(points.size(), 1);
+  auto store = [&](auto& batch, BatchSchedule& schedule) {
+    schedule.coloring = colorConstraints(points.size(), flattenParticles(batch), std::decay_t<decltype(batch)>::Arity, movable);
+    const auto& order = schedule.coloring.order;
+    if constexpr (std::is_same_v<std::decay_t<decltype(batch)>, DistanceBatch>)
+    {
+      permute(batch.ends, order);
+      permute(batch.rest, order);
+    }
+    else
+    {
+      permute(batch.tets, order);
+      permute(batch.restVolume, order);
+    }
+    std::iota(schedule.coloring.order.begin(), schedule.coloring.order.end(), 0);
+  };
+  store(body.links, body.linkSchedule);
+  store(body.volumes, body.volumeSchedule);
+  return body;
+}
+
+enum class Sweep
+{
+  Scalar,
+  WideBaseline,
+  WideAvx2,
+  Sequential
+};
+
+void iterate(Body& body, Sweep sweep)
+{
+  if (sweep == Sweep::Sequential)
+  {
+    gaussSeidelSweep(body.links, body.x, body.w);
+    gaussSeidelSweep(body.volumes, body.x, body.w);
+    return;
+  }
+  if (sweep == Sweep::Scalar)
+  {
+    body.linkSchedule.storedByColor = body.volumeSchedule.storedByColor = false;
+    coloredGaussSeidelSweep(body.links, body.linkSchedule, body.x, body.w);
+    coloredGaussSeidelSweep(body.volumes, body.volumeSchedule, body.x, body.w);
+    return;
+  }
+  const SimdLevel level = sweep == Sweep::WideAvx2 ? SimdLevel::Avx2 : SimdLevel::Baseline;
+  for (const auto* schedule : { &body.linkSchedule, &body.volumeSchedule })
+  {
+    const Coloring& coloring = schedule->coloring;
+    for (std::size_t color = 0; color < coloring.colorCount(); ++color)
+    {
+      const auto begin = static_cast<std::size_t>(coloring.colorOffsets[color]);
+      const auto end = static_cast<std::size_t>(coloring.colorOffsets[color + 1]);
+      if (schedule == &body.linkSchedule)
+      {
+        projectLinksWide(body.links, begin, end, body.x, body.w, level);
+      }
+      else
+      {
+        projectVolumesWide(body.volumes, begin, end, body.x, body.w, level);
+      }
+    }
+  }
+}
+
+/// Least seconds of one call of `work` over `repeat` runs of `calls` calls: the calling
+/// thread's CPU time, or wall time.
+double leastSeconds(int repeat, int calls, bool cpu, const std::function<void()>& work)
+{
+  double least = 1e300;
+  for (int r = 0; r < repeat; ++r)
+  {
+    const auto wall0 = std::chrono::steady_clock::now();
+    const double cpu0 = bench::threadCpuSeconds();
+    for (int i = 0; i < calls; ++i)
+    {
+      work();
+    }
+    const double seconds = cpu ? bench::threadCpuSeconds() - cpu0
+                               : std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    least = std::min(least, seconds / calls);
+  }
+  return least;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  const bench::Options options = bench::parseOptions(argc, argv, "bench_wide_kernels", "");
+  const int repeat = options.smoke ? 1 : std::max(options.repeat, 3);
+  const int calls = options.smoke ? 1 : 5;
+  const int maxThreads = tbb::info::default_concurrency();
+  const bool avx2 = bestSimdLevel() == SimdLevel::Avx2;
+  double bandwidth = 0.0;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    bandwidth = bench::measureTriadBandwidth(options.smoke ? 1u << 20 : 1u << 25, options.smoke ? 1 : 5);
+  }
+  std::printf("best SIMD level of this CPU: %s; triad bandwidth, 1 thread: %.2f GB/s\n",
+    simdLevelName(bestSimdLevel()), 1e-9 * bandwidth);
+  std::printf("XPBD, ms per iteration (links + tet volumes), Morton order; 1 thread: least CPU ms of %d runs; "
+              "%d thr: wall ms\n", repeat, maxThreads);
+  std::printf("%-24s %8s %8s %9s %9s %9s %9s %9s %7s %7s %6s %s\n", "mesh", "tets", "links", "scalar", "baseline",
+    "wide AVX2", "sequential", "wide Nthr", "scal/w", "1/Nthr", "x bw", "bits");
+  const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
+  struct ForceRow
+  {
+    std::string name;
+    double baseline, avx2, threads;
+  };
+  std::vector<ForceRow> forceRows;
+  for (const bench::NamedMesh& named : meshes)
+  {
+    const Reordering reordering =
+      computeReordering(VertexOrdering::Morton, named.mesh.points, named.mesh.tets, {}, true);
+    const std::vector<Vec3> points = toStorageOrder(named.mesh.points, reordering.vertexOrder);
+    const Topology topology = buildTopology(points.size(), reorderTets(named.mesh.tets, reordering));
+    const Body start = makeBody(points, topology);
+
+    double seconds[4] = { 0, 0, 0, 0 };
+    std::vector<Vec3> after[4];
+    for (Sweep sweep : { Sweep::Scalar, Sweep::WideBaseline, Sweep::WideAvx2, Sweep::Sequential })
+    {
+      if (sweep == Sweep::WideAvx2 && !avx2)
+      {
+        continue;
+      }
+      tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+      Body body = start;
+      seconds[int(sweep)] = leastSeconds(repeat, calls, true, [&] { iterate(body, sweep); });
+      Body check = start;
+      iterate(check, sweep);
+      after[int(sweep)] = check.x;
+    }
+    Body parallel = start;
+    parallel.linkSchedule.storedByColor = parallel.volumeSchedule.storedByColor = true;
+    const double threaded = leastSeconds(repeat, calls, false, [&] {
+      coloredGaussSeidelSweep(parallel.links, parallel.linkSchedule, parallel.x, parallel.w);
+      coloredGaussSeidelSweep(parallel.volumes, parallel.volumeSchedule, parallel.x, parallel.w);
+    });
+    const int best = avx2 ? int(Sweep::WideAvx2) : int(Sweep::WideBaseline);
+    const bool same = std::memcmp(after[0].data(), after[1].data(), after[0].size() * sizeof(Vec3)) == 0 &&
+      (!avx2 || std::memcmp(after[0].data(), after[2].data(), after[0].size() * sizeof(Vec3)) == 0);
+    const double bytes = 49.0 * double(topology.edges.size()) + 57.0 * double(topology.tets.size());
+    std::printf("%-24s %8zu %8zu %9.3f %9.3f %9.3f %9.3f %9.3f %7.2f %7.2f %6.2f %s\n", named.name.c_str(),
+      topology.tets.size(), topology.edges.size(), 1e3 * seconds[0], 1e3 * seconds[1], 1e3 * seconds[2],
+      1e3 * seconds[3], 1e3 * threaded, seconds[0] / seconds[best], seconds[best] / threaded,
+      seconds[best] / (bytes / bandwidth), same ? "equal" : "DIFFER");
+    if (!same)
+    {
+      return 1;
+    }
+
+    // Mass-spring forces at each level.
+    std::vector<std::string> warnings;
+    const ElementConstants constants = computeElementConstants(topology, points, MaterialSettings{}, warnings);
+    const std::vector<Vec3> v(points.size(), Vec3(0.01, -0.02, 0.03));
+    ForceScratch scratch;
+    std::vector<Vec3> forces;
+    ForceRow row{ named.name, 0, 0, 0 };
+    {
+      tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+      row.baseline = leastSeconds(repeat, calls, true, [&] {
+        computeInternalForces(topology, constants, start.x, v, scratch, forces, SimdLevel::Baseline);
+      });
+      if (avx2)
+      {
+        row.avx2 = leastSeconds(repeat, calls, true, [&] {
+          computeInternalForces(topology, constants, start.x, v, scratch, forces, SimdLevel::Avx2);
+        });
+      }
+    }
+    row.threads = leastSeconds(repeat, calls, false,
+      [&] { computeInternalForces(topology, constants, start.x, v, scratch, forces); });
+    forceRows.push_back(row);
+  }
+  std::printf("\nMass-spring internal forces (element passes + gather), ms per evaluation, Morton order\n");
+  std::printf("%-24s %10s %10s %10s %8s\n", "mesh", "base 1thr", "AVX2 1thr", "best Nthr", "1/Nthr");
+  for (const ForceRow& r : forceRows)
+  {
+    const double best = avx2 ? r.avx2 : r.baseline;
+    std::printf("%-24s %10.3f %10.3f %10.3f %8.2f\n", r.name.c_str(), 1e3 * r.baseline, 1e3 * r.avx2,
+      1e3 * r.threads, best / r.threads);
+  }
+  return 0;
+}
