@@ -23,6 +23,8 @@
 //   spot         a TetGen mesh of Keenan Crane's spot (38k tets, E 1e4) dropped 1 cm onto the
 //                floor, 0.1 s: RMS distance to a converged Midpoint reference over the 0.2 m
 //                bounding-box diagonal (skipped with a message when the file is absent).
+//   frequency    omega_max of the stability meshes: Gershgorin bound and Lanczos estimates against
+//                a converged value, and the estimate's cost (bench_accuracy_frequency.cpp).
 //   stability    largest stable step of each explicit integrator by bisection on blow-up (from
 //                small random velocities, fixed simulated time), against the automatic estimate.
 //   stress       case x method -> finite / blow-up detected / refused; each cell in its own
@@ -32,6 +34,7 @@
 // --quick runs reduced sweeps (about a minute) and checks: no NaN in any output, no crash or
 // hang in the stress matrix, errors of the analytic scenes decreasing with the step; the exit
 // status is 1 when a check fails.
+#include "bench_accuracy_frequency.h"
 #include "bench_meshes.h"
 #include "bench_options.h"
 
@@ -880,47 +883,7 @@ bool blowsUp(const BodyDescription& body, SceneSettings scene, double h, double 
 
 std::string stabilityTable(const std::string& dataDir, const std::string& out)
 {
-  std::vector<bench::NamedMesh> meshes;
-  meshes.push_back({ "thesis-like cube 12^3 points", makeTetBox(11, 11, 11, 0.01) });
-  // The public meshes, slivers included (IPC's bunny: its thinnest tets set its step), each
-  // scaled to a 0.2 m bounding-box diagonal so the steps are comparable. Quick: armadillo_4k.
-  std::vector<bench::NamedMesh> found;
-  if (gQuick)
-  {
-    const std::string path = dataDir + "/PositionBasedDynamics/armadillo_4k.ele";
-    if (std::filesystem::exists(path))
-    {
-      found.push_back({ "armadillo_4k", bench::meshFromSpec(path, dataDir).mesh });
-    }
-  }
-  else
-  {
-    found = bench::sharedMeshes(dataDir, true); // armadillo_4k and SOFA's two
-    const std::string bunny = dataDir + "/IPC/bunny.msh";
-    if (std::filesystem::exists(bunny))
-    {
-      found.push_back({ "IPC_bunny", bench::meshFromSpec(bunny, dataDir).mesh });
-    }
-  }
-  if (found.empty())
-  {
-    std::printf("  stability: no public meshes under %s; the cube only\n", dataDir.c_str());
-  }
-  for (bench::NamedMesh& m : found)
-  {
-    Vec3 lo = m.mesh.points[0], hi = m.mesh.points[0];
-    for (const Vec3& p : m.mesh.points)
-    {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    const double scale = 0.2 / (hi - lo).norm();
-    for (Vec3& p : m.mesh.points)
-    {
-      p = (p - lo) * scale;
-    }
-    meshes.push_back(std::move(m));
-  }
+  const std::vector<bench::NamedMesh> meshes = bench::stabilityMeshes(dataDir, gQuick);
   std::ofstream csv(out + "/stability.csv");
   csv << "mesh,points,tets,integrator,automatic_step,estimated_limit,bisected_limit,simulated_time,"
          "automatic_over_limit,safe\n";
@@ -1323,7 +1286,7 @@ int main(int argc, char** argv)
     else
     {
       std::fprintf(stderr, "usage: bench_accuracy [--quick] [--data DIR] [--out DIR] "
-                           "[freefall|bar|cantilever|restitution|incline|spot|stability|stress ...]\n");
+                           "[freefall|bar|cantilever|restitution|incline|spot|frequency|stability|stress ...]\n");
       return 2;
     }
   }
@@ -1405,6 +1368,14 @@ int main(int argc, char** argv)
       substeps.c_str());
     summary << "\n## Fastest run per error target\n\n" << fastest << "\n## Substeps against iterations\n\n"
             << substeps;
+  }
+  if (wanted("frequency"))
+  {
+    std::printf("frequency\n");
+    const std::string table = bench::frequencyTable(options.dataDir, out, gQuick, fail);
+    std::printf("%s", table.c_str());
+    std::ofstream(out + "/frequency.md") << table;
+    summary << "\n## Highest frequency: estimates against the converged value\n\n" << table;
   }
   if (wanted("stability"))
   {
