@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -104,15 +105,32 @@ double dot(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
   return parallelSum(a.size(), [&](std::size_t i) { return a[i].dot(b[i]); });
 }
 
-/// Deterministic start vector: a hash of the index (SplitMix64) mapped to [-1, 1), the same on
-/// every platform and thread count; a smooth start would be nearly orthogonal to the top modes.
-double hashedUniform(std::uint64_t index)
+/// SplitMix64's finalizer: a well-mixed 64-bit hash.
+std::uint64_t mix(std::uint64_t z)
 {
-  std::uint64_t z = index + 0x9E3779B97F4A7C15ull;
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return double(z >> 11) * 0x1.0p-52 - 1.0;
+  return z ^ (z >> 31);
+}
+
+/// Start vector entry of one point: pseudo-random in [-1, 1)^3, hashed from the bits of the
+/// point's rest position rather than its index, so a renumbered mesh (core's cache reordering)
+/// gets the same start vector and the same step. A smooth start would be nearly orthogonal to the
+/// top modes, which alternate from point to point.
+Vec3 hashedStart(const Vec3& p)
+{
+  std::uint64_t h = 0x9E3779B97F4A7C15ull;
+  for (int k = 0; k < 3; ++k)
+  {
+    h = mix(h ^ std::bit_cast<std::uint64_t>(p[k]));
+  }
+  Vec3 v;
+  for (int k = 0; k < 3; ++k)
+  {
+    h = mix(h + 0x9E3779B97F4A7C15ull);
+    v[k] = double(h >> 11) * 0x1.0p-52 - 1.0;
+  }
+  return v;
 }
 
 } // namespace
@@ -180,7 +198,7 @@ LanczosFrequency lanczosFrequencyEstimate(const Topology& topology,
   for (std::size_t i = 0; i < n; ++i)
   {
     const double free = inverseMass[i] > 0.0 ? 1.0 : 0.0; // pinned points have no modes
-    q[i] = free * Vec3(hashedUniform(3 * i), hashedUniform(3 * i + 1), hashedUniform(3 * i + 2));
+    q[i] = free * hashedStart(restPositions[i]);
   }
   const double startNorm = std::sqrt(dot(q, q));
   if (!(startNorm > 0.0))
@@ -244,7 +262,8 @@ double highestFrequencyBound(const Topology& topology, const ElementConstants& c
   const double gershgorin = gershgorinFrequencyBound(topology, constants, inverseMass, restPositions);
   const LanczosFrequency lanczos = lanczosFrequencyEstimate(
     topology, constants, inverseMass, restPositions, kFrequencyLanczosSteps);
-  return lanczos.upperOmega > 0.0 ? std::min(gershgorin, lanczos.upperOmega) : gershgorin;
+  return lanczos.upperOmega > 0.0 ? std::min(gershgorin, kDeformationMargin * lanczos.upperOmega)
+                                  : gershgorin;
 }
 
 } // namespace softbody
