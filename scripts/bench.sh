@@ -4,11 +4,11 @@
 # summary into output/bench/, and scripts/plot_accuracy.py draws run time against error per scene
 # (log-log, one curve per method, the Pareto front marked) when matplotlib is there.
 #
-#   scripts/bench.sh                    every scene (about 5 minutes on 2 cores)
-#   scripts/bench.sh --quick            reduced sweeps, ~15 s, into output/bench/quick (CTest runs
+#   scripts/bench.sh                    every scene (about 8 minutes on 2 shared cores)
+#   scripts/bench.sh --quick            reduced sweeps, ~40 s, into output/bench/quick (CTest runs
 #                                       bench_accuracy --quick, without the plots)
 #   scripts/bench.sh bar stability      only these: freefall bar cantilever restitution incline
-#                                       spot stability stress
+#                                       spot jelly frequency stability stress
 #   scripts/bench.sh --no-plots ...     CSVs and tables only
 #
 # SOFTBODY_BENCH_OUT overrides output/bench; SOFTBODY_DATA_DIR the public meshes (../shared/data).

@@ -23,6 +23,11 @@
 //   spot         a TetGen mesh of Keenan Crane's spot (38k tets, E 1e4) dropped 1 cm onto the
 //                floor, 0.1 s: RMS distance to a converged Midpoint reference over the 0.2 m
 //                bounding-box diagonal (skipped with a message when the file is absent).
+//   frequency    omega_max of the stability meshes: Gershgorin bound and Lanczos estimates against
+//                a converged value, and the estimate's cost (bench_accuracy_frequency.cpp).
+//   jelly        the demo's jelly (data/jelly.vtu, 2,304 tets, the filter's default material)
+//                dropped from 0.30 m, 0.4 s (lands at 0.25 s at 2.4 m/s and squashes): RMS distance
+//                to Midpoint at 1/64 of its automatic step (1/32 of it agrees), over its diagonal.
 //   stability    largest stable step of each explicit integrator by bisection on blow-up (from
 //                small random velocities, fixed simulated time), against the automatic estimate.
 //   stress       case x method -> finite / blow-up detected / refused; each cell in its own
@@ -32,11 +37,19 @@
 // --quick runs reduced sweeps (about a minute) and checks: no NaN in any output, no crash or
 // hang in the stress matrix, errors of the analytic scenes decreasing with the step; the exit
 // status is 1 when a check fails.
+#include "bench_accuracy_frequency.h"
 #include "bench_meshes.h"
+
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
 #include "bench_options.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/massspring/highest_frequency.h"
 #include "softbody/massspring/mass_spring_forces.h"
+#include "softbody/massspring/mass_spring_setup.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/pbd/pbd_simulation.h"
@@ -532,6 +545,34 @@ double convergedReference(const Scene& s, const std::function<double(const Simul
   return values[1];
 }
 
+/// The period [s] of a body's swing, released from rest (its state at t = 0) and run for
+/// `duration` with Midpoint at `stepFactor` of its automatic step: the time between the first two
+/// maxima of `quantity` (each placed by a parabola through the three samples around it; samples
+/// 1/800 of the duration apart). Only the first cycle: later ones beat (see the cantilever). 0 when
+/// it peaks fewer than twice.
+double swingPeriod(const Scene& s, const std::function<double(const Simulation&)>& quantity,
+  double duration, double stepFactor)
+{
+  SimPtr sim = makeMassSpring(s, Integrator::Midpoint, stepFactor * automaticStep(s, Integrator::Midpoint));
+  constexpr int kSamples = 800;
+  const double dt = duration / kSamples;
+  std::vector<double> value{ quantity(*sim) };
+  std::vector<double> peaks;
+  for (int k = 1; k <= kSamples && peaks.size() < 2; ++k)
+  {
+    sim->advance(dt * k);
+    value.push_back(quantity(*sim));
+    const double a = value[k - 2 < 0 ? 0 : k - 2], b = value[k - 1], c = value[k];
+    if (k >= 2 && b > a && b >= c)
+    {
+      // Vertex of the parabola through (-1, a), (0, b), (1, c), in samples from k - 1.
+      const double offset = 0.5 * (a - c) / (a - 2 * b + c);
+      peaks.push_back(dt * (k - 1 + offset));
+    }
+  }
+  return peaks.size() < 2 ? 0.0 : peaks[1] - peaks[0];
+}
+
 struct ElasticScene
 {
   Scene scene;
@@ -594,12 +635,36 @@ ElasticScene cantileverScene()
   auto sag = [tip](const Simulation& sim) { return -meanDisplacement(sim, tip, 2); };
   const double network = staticAnswer(s, sag);
   const double period = 2 * M_PI * L * L / (1.875 * 1.875) * std::sqrt(rho * A / (E * I));
-  char line[512];
+  // The first bending period of the network, measured: released from its rest shape, the beam
+  // swings about its static sag; at the automatic step and at half of it (converged in the step).
+  // The square section's two bending modes have nearly equal periods and the Kuhn split's
+  // diagonals couple them: the vertical swing turns into a sideways one and back (beats, the tip
+  // swinging up to 8.7 mm sideways by 0.39 s), so only the first cycle is timed.
+  const double measured = swingPeriod(s, sag, 2.0 * period, 1.0);
+  const double measuredHalf = swingPeriod(s, sag, 2.0 * period, 0.5);
+  if (!(std::abs(measured - measuredHalf) < 1e-3 * measuredHalf))
+  {
+    fail("cantilever: the measured period changes with the step: " + number(measured) + " s and " +
+      number(measuredHalf) + " s");
+  }
+  // Rayleigh: omega^2 ~ g / (static sag), so a model as much too stiff in bending as its sag is
+  // too small has a period sqrt(network / bending) of elasticity's (the sag compared with the
+  // Euler-Bernoulli term, the one the period formula is for).
+  const double impliedByTheSag = period * std::sqrt(network / bending);
+  if (!(std::abs(measuredHalf / impliedByTheSag - 1.0) < 0.1))
+  {
+    fail("cantilever: the measured period " + number(measuredHalf) + " s is not what the static sag implies, " +
+      number(impliedByTheSag) + " s (mass or stiffness inconsistent between statics and dynamics)");
+  }
+  char line[1024];
   std::snprintf(line, sizeof line,
     "cantilever: Euler-Bernoulli q L^4/(8EI) = %.4e m + shear q L^2/(2 kappa G A) = %.4e m "
-    "(kappa 5/6) = %.4e m; the network's static answer %.4e m: model error %.1f%% (first bending "
-    "period %.3f s)",
-    bending, shear, analytic, network, 100 * std::abs(network - analytic) / analytic, period);
+    "(kappa 5/6) = %.4e m; the network's static answer %.4e m: model error %.1f%%. First bending "
+    "period 2 pi L^2/1.875^2 sqrt(rho A/(EI)) = %.4f s; the network's, measured (between the tip's "
+    "first two lowest points, Midpoint at the automatic step and half of it: %.5f and %.5f s) %.4f s: model "
+    "error %.1f%% (what its static sag implies: %.4f s)",
+    bending, shear, analytic, network, 100 * std::abs(network - analytic) / analytic, period,
+    measured, measuredHalf, measuredHalf, 100 * (measuredHalf - period) / period, impliedByTheSag);
   std::printf("  %s\n", line);
   const double reference = convergedReference(s, sag, analytic);
   s.error = [=](const Simulation& sim) { return std::abs(sag(sim) - reference) / analytic; };
@@ -721,59 +786,121 @@ double rmsOverDiagonal(const std::vector<Vec3>& a, const std::vector<Vec3>& b, d
   return std::sqrt(sum / double(a.size())) / diagonal;
 }
 
-bool spotScene(const std::string& dataDir, Scene& s, std::string& note)
+/// A body dropped onto the floor: scenes without a closed form, measured against a converged
+/// reference (Midpoint at two fractions of its automatic step, shown to agree).
+struct DropSpec
 {
-  const std::string path = dataDir + "/keenan-spot/spot_triangulated.obj";
+  const char* name;
+  const char* what;      ///< the mesh and where it starts, for the log
+  double endTime;        ///< [s]
+  int divisors[2];       ///< the reference: Midpoint at these fractions of its automatic step
+  double youngsModulus;  ///< [Pa]
+  double dampingTime;    ///< [s]
+};
+
+/// A public surface meshed by TetGen (default quality), scaled to a 0.2 m diagonal, its lowest
+/// point `drop` above the floor. Empty, with a note, when the file is absent.
+TetMesh publicSurfaceBody(const std::string& path, const std::string& dataDir, double drop, std::string& note)
+{
   if (!std::filesystem::exists(path))
   {
-    note = "spot: " + path + " not found; scene skipped";
-    std::printf("  %s\n", note.c_str());
-    return false;
+    note = path + " not found; scene skipped";
+    return {};
   }
-  bench::NamedMesh named = bench::meshFromSpec(path, dataDir);
-  s.name = "spot";
-  s.endTime = 0.1;
-  s.reduced = true;
-  TetMesh& mesh = named.mesh;
+  TetMesh mesh = bench::meshFromSpec(path, dataDir).mesh;
   Vec3 lo = mesh.points[0], hi = mesh.points[0];
   for (const Vec3& p : mesh.points)
   {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  const double diagonal = (hi - lo).norm();
-  // Scaled to a 20 cm body whose lowest point is 1 cm above the floor (it lands at 45 ms).
-  const double scale = 0.2 / diagonal;
+  const double scale = 0.2 / (hi - lo).norm();
   for (Vec3& p : mesh.points)
   {
-    p = (p - lo) * scale + Vec3(0, 0, 0.01);
+    p = (p - lo) * scale + Vec3(0, 0, drop);
   }
+  return mesh;
+}
+
+/// The demo's jelly (data/jelly.vtu, as committed: its bottom 0.30 m above the floor).
+TetMesh demoJelly(const std::string& path, std::string& note)
+{
+  if (!std::filesystem::exists(path))
+  {
+    note = path + " not found; scene skipped";
+    return {};
+  }
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  TetMesh mesh;
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
+  {
+    const double* p = grid->GetPoint(i);
+    mesh.points.emplace_back(p[0], p[1], p[2]);
+  }
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    grid->GetCellPoints(c, ids);
+    mesh.tets.push_back({ std::int32_t(ids->GetId(0)), std::int32_t(ids->GetId(1)),
+      std::int32_t(ids->GetId(2)), std::int32_t(ids->GetId(3)) });
+  }
+  return mesh;
+}
+
+bool meshDropScene(const DropSpec& d, TetMesh mesh, Scene& s, std::string& note)
+{
+  if (mesh.tets.empty())
+  {
+    note = std::string(d.name) + ": " + note;
+    std::printf("  %s\n", note.c_str());
+    return false;
+  }
+  Vec3 lo = mesh.points[0], hi = mesh.points[0];
+  for (const Vec3& p : mesh.points)
+  {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double diagonal = (hi - lo).norm(); // errors are RMS distances over it
+  s.name = d.name;
+  s.endTime = d.endTime;
+  s.reduced = mesh.tets.size() > 10000;
   s.body.mesh = mesh;
-  s.body.material.physical.youngsModulus = 1e4; // a soft foam: the step is what 38k tets afford
-  s.body.material.physical.dampingTime = 1e-5;
+  s.body.material.physical.youngsModulus = d.youngsModulus;
+  s.body.material.physical.dampingTime = d.dampingTime;
   s.scene.floorEnabled = true;
   s.pbdBody = pbdBodyOf(s.body);
   s.pbdSettings = pbdSettingsOf(s.body, s.scene, true);
   s.pbd = false;
-  std::printf("  spot: %zu points, %zu tets (TetGen), scaled to a 0.2 m diagonal\n", mesh.points.size(),
-    mesh.tets.size());
+  std::printf("  %s: %zu points, %zu tets, %s, E %.3g Pa, damping time %.3g s, %.3g s\n", d.name,
+    mesh.points.size(), mesh.tets.size(), d.what, d.youngsModulus, d.dampingTime, d.endTime);
   const double automatic = automaticStep(s, Integrator::Midpoint);
-  std::printf("  spot: automatic Midpoint step %.3g s\n", automatic);
+  std::printf("  %s: automatic Midpoint step %.3g s\n", d.name, automatic);
   std::fflush(stdout);
   std::vector<Vec3> refs[2];
-  const int divisors[2] = { 1, 2 };
   for (int k = 0; k < 2; ++k)
   {
-    SimPtr sim = makeMassSpring(s, Integrator::Midpoint, automatic / divisors[k]);
+    SimPtr sim = makeMassSpring(s, Integrator::Midpoint, automatic / d.divisors[k]);
     sim->advance(s.endTime);
     refs[k] = sim->positions();
   }
-  const double apart = rmsOverDiagonal(refs[0], refs[1], 0.2);
-  std::printf("  reference (Midpoint at its automatic step and half of it): RMS apart %.2e of the diagonal\n", apart);
-  note = "spot: reference Midpoint at half its automatic step; at the automatic step and half of it apart by " + number(apart, 3)
-    + " (RMS over the 0.2 m diagonal)";
+  const double apart = rmsOverDiagonal(refs[0], refs[1], diagonal);
+  const std::string which = "Midpoint at 1/" + std::to_string(d.divisors[0]) + " and 1/" +
+    std::to_string(d.divisors[1]) + " of its automatic step";
+  std::printf("  reference (%s): RMS apart %.2e of the diagonal\n", which.c_str(), apart);
+  note = std::string(d.name) + ": reference " + which + ", apart by " + number(apart, 3) +
+    " (RMS over the " + number(diagonal, 3) + " m diagonal); the finer one is the reference";
+  if (!(apart < 1e-3))
+  {
+    fail(std::string(d.name) + ": the reference has not converged");
+  }
   auto reference = std::make_shared<std::vector<Vec3>>(refs[1]);
-  s.error = [reference](const Simulation& sim) { return rmsOverDiagonal(sim.positions(), *reference, 0.2); };
+  s.error = [reference, diagonal](const Simulation& sim) {
+    return rmsOverDiagonal(sim.positions(), *reference, diagonal);
+  };
   return true;
 }
 
@@ -881,47 +1008,7 @@ bool blowsUp(const BodyDescription& body, SceneSettings scene, double h, double 
 
 std::string stabilityTable(const std::string& dataDir, const std::string& out)
 {
-  std::vector<bench::NamedMesh> meshes;
-  meshes.push_back({ "thesis-like cube 12^3 points", makeTetBox(11, 11, 11, 0.01) });
-  // The public meshes, slivers included (IPC's bunny: its thinnest tets set its step), each
-  // scaled to a 0.2 m bounding-box diagonal so the steps are comparable. Quick: armadillo_4k.
-  std::vector<bench::NamedMesh> found;
-  if (gQuick)
-  {
-    const std::string path = dataDir + "/PositionBasedDynamics/armadillo_4k.ele";
-    if (std::filesystem::exists(path))
-    {
-      found.push_back({ "armadillo_4k", bench::meshFromSpec(path, dataDir).mesh });
-    }
-  }
-  else
-  {
-    found = bench::sharedMeshes(dataDir, true); // armadillo_4k and SOFA's two
-    const std::string bunny = dataDir + "/IPC/bunny.msh";
-    if (std::filesystem::exists(bunny))
-    {
-      found.push_back({ "IPC_bunny", bench::meshFromSpec(bunny, dataDir).mesh });
-    }
-  }
-  if (found.empty())
-  {
-    std::printf("  stability: no public meshes under %s; the cube only\n", dataDir.c_str());
-  }
-  for (bench::NamedMesh& m : found)
-  {
-    Vec3 lo = m.mesh.points[0], hi = m.mesh.points[0];
-    for (const Vec3& p : m.mesh.points)
-    {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    const double scale = 0.2 / (hi - lo).norm();
-    for (Vec3& p : m.mesh.points)
-    {
-      p = (p - lo) * scale;
-    }
-    meshes.push_back(std::move(m));
-  }
+  const std::vector<bench::NamedMesh> meshes = bench::stabilityMeshes(dataDir, gQuick);
   std::ofstream csv(out + "/stability.csv");
   csv << "mesh,points,tets,integrator,automatic_step,estimated_limit,bisected_limit,simulated_time,"
          "automatic_over_limit,safe\n";
@@ -939,13 +1026,16 @@ std::string stabilityTable(const std::string& dataDir, const std::string& out)
     // omega^2) and all four are alike. The thesis's Table 6.1 (Euler 3.0 < Midpoint 3.5 < Verlet
     // 6.5 = Euler-Cromer 6.5 ms) implies under-damped top modes: Euler is stable up to h = beta
     // and Verlet to ~2 / omega, so Euler / Verlet = beta omega / 2 = 3.0 / 6.5 is the top mode's
-    // damping ratio. The "thesis damping" rows set beta = 2 x 0.46 / omega_max (the bound).
+    // damping ratio. The "thesis damping" rows set beta = 2 x 0.46 / omega_max.
     std::string label = named.name;
     if (thesisDamping)
     {
-      SceneSettings probeScene;
-      const MassSpringSimulation probe(body, probeScene);
-      body.material.physical.dampingTime = 2 * 0.46 / probe.highestFrequency();
+      // omega_max itself (the Lanczos estimate, converged on these meshes: the frequency
+      // table), not the set-up's, which carries a margin for deformation.
+      const MassSpringSetup probe = prepareMassSpring(body, SceneSettings{});
+      const double omegaMax = lanczosFrequencyEstimate(probe.topology, probe.constants,
+        probe.masses.inverseMass, probe.mesh.points, kFrequencyLanczosSteps).upperOmega;
+      body.material.physical.dampingTime = 2 * 0.46 / omegaMax;
       char text[128];
       std::snprintf(text, sizeof text, " (beta %.3g ms)", 1e3 * body.material.physical.dampingTime);
       label += text;
@@ -1324,7 +1414,7 @@ int main(int argc, char** argv)
     else
     {
       std::fprintf(stderr, "usage: bench_accuracy [--quick] [--data DIR] [--out DIR] "
-                           "[freefall|bar|cantilever|restitution|incline|spot|stability|stress ...]\n");
+                           "[freefall|bar|cantilever|restitution|incline|spot|jelly|frequency|stability|stress ...]\n");
       return 2;
     }
   }
@@ -1382,11 +1472,24 @@ int main(int argc, char** argv)
     runScene(inclineScene(30.0, 0.3, false));
     runScene(inclineScene(20.0, 0.5, true));
   }
-  if (wanted("spot") && !gQuick)
+  // Spot (a soft foam, E 1e4) lands 1 cm down at 45 ms. The demo's jelly (the filter's default
+  // material) falls 0.30 m, lands at 0.25 s at 2.4 m/s and squashes: far larger deformation.
+  const DropSpec spot{ "spot", "TetGen of keenan-spot/spot_triangulated.obj, scaled to a 0.2 m diagonal, 1 cm above "
+                               "the floor", 0.1, { 1, 2 }, 1e4, 1e-5 };
+  const DropSpec jelly{ "jelly", "data/jelly.vtu (the demo's), bottom 0.30 m above the floor", 0.4, { 32, 64 },
+    MaterialSettings{}.physical.youngsModulus, MaterialSettings{}.physical.dampingTime };
+  for (const DropSpec* d : { &spot, &jelly })
   {
-    Scene s;
+    if (!wanted(d->name) || gQuick)
+    {
+      continue;
+    }
     std::string note;
-    if (spotScene(options.dataDir, s, note))
+    TetMesh mesh = d == &spot
+      ? publicSurfaceBody(options.dataDir + "/keenan-spot/spot_triangulated.obj", options.dataDir, 0.01, note)
+      : demoJelly(std::string(SOFTBODY_PROJECT_DATA_DIR) + "/jelly.vtu", note);
+    Scene s;
+    if (meshDropScene(*d, std::move(mesh), s, note))
     {
       runScene(s);
     }
@@ -1406,6 +1509,14 @@ int main(int argc, char** argv)
       substeps.c_str());
     summary << "\n## Fastest run per error target\n\n" << fastest << "\n## Substeps against iterations\n\n"
             << substeps;
+  }
+  if (wanted("frequency"))
+  {
+    std::printf("frequency\n");
+    const std::string table = bench::frequencyTable(options.dataDir, out, gQuick, fail);
+    std::printf("%s", table.c_str());
+    std::ofstream(out + "/frequency.md") << table;
+    summary << "\n## Highest frequency: estimates against the converged value\n\n" << table;
   }
   if (wanted("stability"))
   {

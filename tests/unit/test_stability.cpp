@@ -1,5 +1,6 @@
 // Stable time step estimates: the amplification analysis and the simulation that obeys it.
 #include "softbody/common/errors.h"
+#include "softbody/massspring/mass_spring_forces.h"
 #include "softbody/massspring/mass_spring_setup.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
@@ -7,6 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include "test_support.h"
 
@@ -33,10 +35,11 @@ TEST(Stability, AmplificationMatchesTheTextbookLimits)
     2.0 / omega * (std::sqrt(1 + zeta * zeta) - zeta), 1e-6);
 }
 
-TEST(Stability, FrequencyBoundIsAnUpperBoundOfASingleSpring)
+TEST(Stability, FrequencyEstimateOfASingleFreeCornerIsItsExactFrequency)
 {
-  // One tet with three corners pinned: the free corner oscillates; its highest frequency is
-  // below the Gershgorin bound, and the bound is within a small factor of it.
+  // One tet with three corners pinned: the free corner oscillates in a 3-dimensional space, so
+  // three Lanczos steps span it and the Lanczos estimate is its exact top frequency (the set-up
+  // adds its deformation margin); the Gershgorin bound is above it.
   TetMesh mesh;
   mesh.points = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1) };
   mesh.tets = { { 0, 1, 2, 3 } };
@@ -47,7 +50,7 @@ TEST(Stability, FrequencyBoundIsAnUpperBoundOfASingleSpring)
   body.material.raw = { 10.0, 0.0, 0.0, 0.0, 4.0 };
   MassSpringSimulation sim(body, SceneSettings{});
   // Free corner (0,0,1), mass 1, three springs to the pinned corners: stiffness matrix
-  // K = sum k_e n n^T with k_e = k_D / l0^2; its largest eigenvalue bounds omega^2 from below.
+  // K = sum k_e n n^T with k_e = k_D / l0^2; omega^2 is its largest eigenvalue over the mass.
   const auto& c = sim.elementConstants();
   Eigen::Matrix3d k = Eigen::Matrix3d::Zero();
   for (std::size_t e = 0; e < sim.topology().edges.size(); ++e)
@@ -60,8 +63,109 @@ TEST(Stability, FrequencyBoundIsAnUpperBoundOfASingleSpring)
     }
   }
   const double omegaTrue = std::sqrt(k.eigenvalues().real().maxCoeff() * sim.inverseMasses()[3]);
-  EXPECT_GE(sim.highestFrequency(), omegaTrue);
-  EXPECT_LE(sim.highestFrequency(), 3.0 * omegaTrue);
+  const LanczosFrequency lanczos =
+    lanczosFrequencyEstimate(sim.topology(), c, sim.inverseMasses(), sim.restPositions(), kFrequencyLanczosSteps);
+  EXPECT_EQ(lanczos.iterations, 3); // then the space is exhausted
+  EXPECT_NEAR(lanczos.upperOmega, omegaTrue, 1e-9 * omegaTrue);
+  const double gershgorin = gershgorinFrequencyBound(sim.topology(), c, sim.inverseMasses(), sim.restPositions());
+  EXPECT_GE(gershgorin, omegaTrue);
+  EXPECT_DOUBLE_EQ(sim.highestFrequency(), std::min(gershgorin, kDeformationMargin * lanczos.upperOmega));
+}
+
+namespace
+{
+/// The exact omega_max of a body at rest from a dense eigensolve of M^-1/2 K M^-1/2, with K
+/// assembled by central differences of the simulation's own force kernel (an independent path:
+/// the estimate's matrix-free product is derived by hand).
+double denseHighestFrequency(const MassSpringSimulation& sim)
+{
+  const std::vector<Vec3>& rest = sim.restPositions();
+  const std::vector<double>& w = sim.inverseMasses();
+  const std::size_t n = rest.size();
+  const std::vector<Vec3> zero(n, Vec3::Zero());
+  ForceScratch scratch;
+  std::vector<Vec3> plus, minus;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  const double epsilon = 1e-7 * 0.05;
+  for (std::size_t j = 0; j < 3 * n; ++j)
+  {
+    std::vector<Vec3> x = rest;
+    x[j / 3][j % 3] += epsilon;
+    computeInternalForces(sim.topology(), sim.elementConstants(), x, zero, scratch, plus);
+    x[j / 3][j % 3] -= 2 * epsilon;
+    computeInternalForces(sim.topology(), sim.elementConstants(), x, zero, scratch, minus);
+    for (std::size_t i = 0; i < 3 * n; ++i)
+    {
+      // K = -df/dx, scaled by sqrt(w_i w_j) (pinned points drop out).
+      a(i, j) = -(plus[i / 3][i % 3] - minus[i / 3][i % 3]) / (2 * epsilon) *
+        std::sqrt(w[i / 3] * w[j / 3]);
+    }
+  }
+  const Eigen::MatrixXd symmetric = 0.5 * (a + a.transpose());
+  return std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(symmetric, Eigen::EigenvaluesOnly)
+                     .eigenvalues()
+                     .maxCoeff());
+}
+} // namespace
+
+TEST(Stability, FrequencyEstimateIsJustAboveTheExactTopFrequency)
+{
+  // A regular box (dense top of the spectrum: the hard case for a few Lanczos steps) and a
+  // jittered one with its bottom pinned and a sliver-like spread of element sizes: the set-up's
+  // estimate must not be below the exact omega_max (else the automatic step can blow up) and
+  // should be close above it (the Gershgorin bound it replaces was 1.4-2x high on the lab's
+  // meshes); the plain top Ritz value is a lower bound.
+  struct Case
+  {
+    const char* name;
+    TetMesh mesh;
+    bool pinBottom;
+  };
+  TetMesh jittered = makeTetBox(4, 3, 3, 0.02);
+  jittered.points = test::jitter(jittered.points, 0.006);
+  const Case cases[] = { { "regular 4x4x4 box", makeTetBox(4, 4, 4, 0.02), false },
+    { "jittered box, bottom pinned", jittered, true } };
+  for (const Case& c : cases)
+  {
+    BodyDescription body;
+    body.mesh = c.mesh;
+    body.pinned.assign(c.mesh.points.size(), 0);
+    for (std::size_t i = 0; i < c.mesh.points.size() && c.pinBottom; ++i)
+    {
+      body.pinned[i] = c.mesh.points[i].z() < 1e-9 ? 1 : 0;
+    }
+    const MassSpringSimulation sim(body, SceneSettings{});
+    const double exact = denseHighestFrequency(sim);
+    const auto& k = sim.elementConstants();
+    const auto& w = sim.inverseMasses();
+    const LanczosFrequency lanczos =
+      lanczosFrequencyEstimate(sim.topology(), k, w, sim.restPositions(), kFrequencyLanczosSteps);
+    const double gershgorin = gershgorinFrequencyBound(sim.topology(), k, w, sim.restPositions());
+    std::printf("%s: omega_max %.6g rad/s; Lanczos %.6g (Ritz %.6g), Gershgorin %.6g\n", c.name, exact,
+      lanczos.upperOmega, lanczos.ritzOmega, gershgorin);
+    // 1e-6: the finite-difference Hessian's own error.
+    EXPECT_GE(lanczos.upperOmega, exact * (1 - 1e-6)) << c.name;
+    EXPECT_LE(lanczos.upperOmega, 1.05 * exact) << c.name;
+    EXPECT_LE(lanczos.ritzOmega, exact * (1 + 1e-6)) << c.name;
+    EXPECT_GE(gershgorin, exact * (1 - 1e-6)) << c.name;
+    EXPECT_EQ(sim.highestFrequency(), std::min(gershgorin, kDeformationMargin * lanczos.upperOmega)) << c.name;
+  }
+}
+
+TEST(Stability, FrequencyEstimateIsTheSameAtAnyThreadCount)
+{
+  BodyDescription body;
+  body.mesh = makeTetBox(12, 10, 8, 0.01); // ~5k tets: several parallel chunks per pass
+  auto estimate = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    const MassSpringSimulation sim(body, SceneSettings{});
+    return lanczosFrequencyEstimate(sim.topology(), sim.elementConstants(), sim.inverseMasses(),
+      sim.restPositions(), kFrequencyLanczosSteps);
+  };
+  const LanczosFrequency one = estimate(1), two = estimate(2);
+  EXPECT_EQ(one.upperOmega, two.upperOmega);
+  EXPECT_EQ(one.ritzOmega, two.ritzOmega);
+  EXPECT_EQ(one.iterations, kFrequencyLanczosSteps);
 }
 
 namespace
@@ -103,27 +207,24 @@ double bisectedLimit(const BodyDescription& body, const SceneSettings& scene, do
 }
 } // namespace
 
-TEST(Stability, AutomaticStepIsInANarrowBandBelowTheBisectedLimit)
+TEST(Stability, AutomaticStepIsSafeAndWithinTwoOfTheBisectedLimit)
 {
-  // The automatic step (0.9 x the estimate from a Gershgorin bound on omega_max) against the
-  // largest step at which the body itself stays stable, found by bisection (3000 steps from
-  // random velocities, energy x1000 = unstable; resolution ~0.1%). Below it always (else the
-  // automatic step blows up), and where it was measured, within 5%: the bound on omega_max is
-  // conservative, so the automatic step is 0.43 of the true limit for undamped Verlet and 0.14
-  // to 0.25 for the damped methods (the damped limits are bisected from the energy growth, which
-  // is slow near them: those limits are upper estimates). A wrong factor in the bound, the
-  // safety fraction or an amplification matrix moves these ratios by more than 5%.
+  // The automatic step (0.9 x the estimate from 1.2 x the Lanczos omega_max) against the largest step
+  // at which the body itself stays stable, found by bisection (3000 steps from random
+  // velocities, energy x1000 = unstable; resolution ~0.1%). Below it always (else the automatic
+  // step blows up), and not wasteful: at least half of it (issue 13: "aim within 2x"; with the
+  // Gershgorin bound it was 0.14 to 0.43 here). Undamped Verlet and the damped methods (whose
+  // over-damped top modes square any excess in omega_max) alike.
   struct Case
   {
     Integrator integrator;
     double dampingTime;
-    double measuredRatio;
   };
   const Case cases[] = {
-    { Integrator::Verlet, 0.0, 0.428 },
-    { Integrator::EulerCromer, 2e-3, 0.247 },
-    { Integrator::Midpoint, 2e-3, 0.136 },
-    { Integrator::Euler, 2e-3, 0.194 },
+    { Integrator::Verlet, 0.0 },
+    { Integrator::EulerCromer, 2e-3 },
+    { Integrator::Midpoint, 2e-3 },
+    { Integrator::Euler, 2e-3 },
   };
   for (const Case& c : cases)
   {
@@ -140,7 +241,7 @@ TEST(Stability, AutomaticStepIsInANarrowBandBelowTheBisectedLimit)
     std::printf("%s: automatic step %.4g s, bisected limit %.4g s, ratio %.3f\n",
       integratorName(c.integrator), h, limit, ratio);
     EXPECT_LT(ratio, 1.0) << integratorName(c.integrator);
-    EXPECT_NEAR(ratio / c.measuredRatio, 1.0, 0.05) << integratorName(c.integrator);
+    EXPECT_GE(ratio, 0.5) << integratorName(c.integrator);
     EXPECT_FALSE(blowsUp(body, scene, h, 3000)) << integratorName(c.integrator);
   }
 }

@@ -43,51 +43,6 @@ double stableStepFor(Integrator integrator, double omega, double c)
 
 } // namespace
 
-double highestFrequencyBound(const Topology& topology, const ElementConstants& constants,
-  const std::vector<double>& inverseMass, const std::vector<Vec3>& restPositions)
-{
-  // Per tet: |g_j| of each corner at rest and their sum, for the volume block norms.
-  std::vector<double> gradientNormSum(topology.tets.size(), 0.0);
-  std::vector<std::array<double, 4>> gradientNorm(topology.tets.size());
-  for (std::size_t t = 0; t < topology.tets.size(); ++t)
-  {
-    const Tet& tet = topology.tets[t];
-    const auto g = tetVolumeGradients(
-      restPositions[tet[0]], restPositions[tet[1]], restPositions[tet[2]], restPositions[tet[3]]);
-    for (int k = 0; k < 4; ++k)
-    {
-      gradientNorm[t][k] = g[k].norm();
-      gradientNormSum[t] += gradientNorm[t][k];
-    }
-  }
-
-  double maxOmegaSquared = 0.0;
-  for (std::size_t i = 0; i < topology.vertexCount; ++i)
-  {
-    if (inverseMass[i] == 0.0)
-    {
-      continue;
-    }
-    // Row i of K: diagonal block sum_e k n n^T (norm <= sum k) plus off-diagonal blocks k n n^T
-    // (norm k each); a tet adds k' g_i g_j^T blocks of norm k' |g_i| |g_j|.
-    double rowNorm = 0.0;
-    const Csr& edges = topology.vertexEdges;
-    for (std::int32_t k = edges.offsets[i]; k < edges.offsets[i + 1]; ++k)
-    {
-      rowNorm += 2.0 * constants.springStiffness[edges.items[k]];
-    }
-    const Csr& corners = topology.vertexTetCorners;
-    for (std::int32_t k = corners.offsets[i]; k < corners.offsets[i + 1]; ++k)
-    {
-      const std::int32_t t = corners.items[k] / 4;
-      rowNorm += constants.volumeStiffness[t] * gradientNorm[t][corners.items[k] % 4] *
-        gradientNormSum[t];
-    }
-    maxOmegaSquared = std::max(maxOmegaSquared, inverseMass[i] * rowNorm);
-  }
-  return std::sqrt(maxOmegaSquared);
-}
-
 double amplificationRadius(Integrator integrator, double h, double omega, double c)
 {
   const double w2 = omega * omega;

@@ -1,25 +1,22 @@
 // Estimates of the largest stable time step of each explicit integrator.
 //
-// The highest natural angular frequency w_max of the linearized system M^-1 K at rest is bounded
-// by block Gershgorin: w_max^2 <= max_i w_i * (sum over i's springs of 2 k + sum over i's tets
-// of k_V' |g_i| sum_j |g_j|). Each integrator is then applied to the damped test oscillator
-// x'' = -w^2 x - c x', c = beta w^2 (stiffness-proportional damping): the largest h for which
-// the spectral radius of its 2x2 amplification matrix stays <= 1, over a sweep of frequencies
-// up to w_max, is its stability limit. Explicit Euler is unstable for any h without damping; it
+// The highest natural angular frequency w_max of the linearized system M^-1 K at rest comes from
+// highest_frequency.h (a Lanczos upper estimate, capped by a Gershgorin bound). Each integrator
+// is then applied to the damped test oscillator x'' = -w^2 x - c x', c = beta w^2
+// (stiffness-proportional damping): the largest h for which the spectral radius of its 2x2
+// amplification matrix stays <= 1, over a sweep of frequencies up to w_max, is its stability
+// limit. Explicit Euler is unstable for any h without damping; it
 // is stable for h <= beta (under-damped modes) and h <= ~2 / (beta w^2) (over-damped ones).
 #pragma once
 
 #include "softbody/massspring/explicit_integrators.h"
+#include "softbody/massspring/highest_frequency.h"
 #include "softbody/material/material.h"
 
 #include <vector>
 
 namespace softbody
 {
-
-/// Upper bound of the highest natural angular frequency [rad/s] of the body at rest.
-double highestFrequencyBound(const Topology& topology, const ElementConstants& constants,
-  const std::vector<double>& inverseMass, const std::vector<Vec3>& restPositions);
 
 /// Spectral radius of one step of `integrator` on x'' = -omega^2 x - c x'.
 double amplificationRadius(Integrator integrator, double h, double omega, double c);
