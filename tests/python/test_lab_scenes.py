@@ -145,7 +145,7 @@ def slid_on_incline(theta_degrees, mu, substeps):
     rotation = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
     path, _ = tet_box(2, 2, 1, 0.05, origin=(-0.05, -0.05, 1e-6), rotation=rotation)
     start, mesh, particles = run(path, t, Method="PBD", Floor=1, FloorOrigin=[0, 0, 0],
-                                 FloorNormal=list(rotation @ [0, 0, 1]), Friction=mu, Restitution=0.0,
+                                 FloorNormal=list(rotation @ [0, 0, 1]), StaticFriction=mu, DynamicFriction=mu,
                                  Substeps=substeps, Iterations=1)
     downhill = rotation @ [1, 0, 0]
     moved = sbt.center_of_mass(particles) - sbt.center_of_mass(start)
@@ -176,7 +176,9 @@ for substeps in (8, 32):
     creep[substeps] = abs(slid) / frictionless
     print(f"  incline 20 deg, mu 0.5, {substeps} substeps: slid {slid * 1e3:.4f} mm, {creep[substeps]:.2e} "
           f"of the frictionless {frictionless * 1e3:.1f} mm (h / t = {h / t:.2e})")
-sbt.check(2.5 < creep[8] / creep[32] < 6.5, "incline: tan theta < mu, the block sticks up to a creep "
-          "that vanishes with the substep (first order)")
+# Static friction holds the contact where it first touched (position level), so the creep falls
+# at least as fast as the substep (it measured second order: 16x for 4x smaller substeps).
+sbt.check(creep[8] / creep[32] > 2.5, "incline: tan theta < mu, the block sticks up to a creep "
+          "that vanishes with the substep (at least first order)")
 sbt.check(creep[32] < 10 * h / t, "incline: the creep is within 10 h / t of the frictionless slide")
 print("python.lab_scenes passed")
