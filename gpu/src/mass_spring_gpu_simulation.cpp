@@ -9,6 +9,7 @@
 #include "softbody/common/stepping.h"
 #include "softbody/massspring/mass_spring_plan.h"
 #include "softbody/massspring/mass_spring_setup.h"
+#include "softbody/massspring/tet_body_contacts.h"
 
 #include <chrono>
 
@@ -37,6 +38,13 @@ MassSpringGpuSimulation::MassSpringGpuSimulation(const BodyDescription& body, co
 {
   Body->plan = planMassSpring(Body->setup);
   Body->plan.add(Stage::Transfers);
+  // The floor here is already where contacts hold points (floorPassScene): start on it as the
+  // CPU stepper does.
+  if (Body->setup.scene.floorEnabled)
+  {
+    liftBodiesOntoPlane(Body->setup.mesh, Body->setup.masses.inverseMass, Body->setup.scene.floor,
+      State.positions);
+  }
   Gl = SharedGlContext::acquire(); // throws GpuUnavailableError where no context can be made
   try
   {

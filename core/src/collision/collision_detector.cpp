@@ -52,7 +52,7 @@ CollisionDetector::CollisionDetector(CollisionGeometry geometry, const Collision
   , FloorEnabled(floorEnabled)
   , Floor(floor)
 {
-  check::nonNegative("CollisionMargin", Settings.margin, " m", "automatic");
+  check::nonNegative("CollisionMargin", Settings.margin, "m", "automatic");
   check::nonNegative("StaticFriction", Settings.staticFriction);
   check::nonNegative("DynamicFriction", Settings.dynamicFriction);
   check::inRange("Restitution", Settings.restitution, 0.0, 1.0);

@@ -141,9 +141,10 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
     }
     if (below > 0)
     {
-      // Projecting them all at once crushes the tets they belong to: usually not intended.
+      // The steppers lift each free body onto the floor at t = 0 (tet_body_contacts.h).
       s.warnings.push_back(std::to_string(below) +
-        " points start below the floor and will be pushed onto it in the first step; move "
+        " points start below the floor: each body without pinned points is lifted onto it at "
+        "t = 0 without velocity; pinned ones are pushed onto it in the first step. Move "
         "FloorOrigin below the body to drop it instead.");
     }
   }

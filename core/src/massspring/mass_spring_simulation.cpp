@@ -4,10 +4,10 @@
 #include "softbody/common/errors.h"
 #include "softbody/massspring/mass_spring_plan.h"
 #include "softbody/massspring/mass_spring_setup.h"
+#include "softbody/massspring/tet_body_contacts.h"
 
 #include "softbody/common/parallel.h"
 #include "softbody/common/stepping.h"
-#include "softbody/mesh/components.h"
 
 #include <algorithm>
 #include <numeric>
@@ -15,77 +15,11 @@
 
 namespace softbody
 {
-namespace
-{
-/// What the detector collides of a tet body: its boundary triangles (outward), each point's
-/// connected body; no particles (radius 0). The colliding points are all points, so that a
-/// body crushed through its own bottom (a very soft one, a fast impact) still keeps every
-/// point out of the floor and the obstacles, as the floor pass before did; with self
-/// collisions only the surface vertices, since an interior point lies behind its own
-/// surface's one-sided triangles and would be pushed out through them.
-CollisionGeometry tetBodyGeometry(const TetMesh& mesh, CollisionMode mode)
-{
-  CollisionGeometry g;
-  g.rest = mesh.points;
-  g.radius.assign(mesh.points.size(), 0.0);
-  std::vector<std::int64_t> offsets(mesh.tets.size() + 1);
-  std::vector<std::int64_t> cellPoints;
-  cellPoints.reserve(4 * mesh.tets.size());
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-  {
-    offsets[t] = static_cast<std::int64_t>(4 * t);
-    for (std::int32_t v : mesh.tets[t])
-    {
-      cellPoints.push_back(v);
-    }
-  }
-  offsets.back() = static_cast<std::int64_t>(cellPoints.size());
-  const Components components = connectedComponents(mesh.points.size(), offsets, cellPoints);
-  g.bodyOf.assign(mesh.points.size(), -1);
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-  {
-    for (std::int32_t v : mesh.tets[t])
-    {
-      g.bodyOf[v] = components.ofCell[t];
-    }
-  }
-  // Points in no tet belong to no body and collide with nothing; give each its own number.
-  std::int32_t next = components.count;
-  for (std::int32_t& body : g.bodyOf)
-  {
-    body = body < 0 ? next++ : body;
-  }
-  g.surfaceTriangles = boundaryTriangles(mesh.tets);
-  if (mode != CollisionMode::ObstaclesBodiesAndSelf)
-  {
-    g.collidingPoints.resize(mesh.points.size());
-    std::iota(g.collidingPoints.begin(), g.collidingPoints.end(), 0);
-    return g;
-  }
-  for (const auto& triangle : g.surfaceTriangles)
-  {
-    g.collidingPoints.insert(g.collidingPoints.end(), triangle.begin(), triangle.end());
-  }
-  std::sort(g.collidingPoints.begin(), g.collidingPoints.end());
-  g.collidingPoints.erase(
-    std::unique(g.collidingPoints.begin(), g.collidingPoints.end()), g.collidingPoints.end());
-  return g;
-}
-} // namespace
 
 SceneSettings floorPassScene(const TetMesh& mesh, const SceneSettings& scene)
 {
   SceneSettings lifted = scene;
-  if (!scene.floorEnabled || scene.collisions.mode == CollisionMode::Off)
-  {
-    return lifted;
-  }
-  const CollisionDetector detector(tetBodyGeometry(mesh, scene.collisions.mode), scene.collisions,
-    false, scene.floor);
-  if (scene.floor.normal.norm() > 0.0)
-  {
-    lifted.floor.origin += detector.margin() * scene.floor.normal.normalized();
-  }
+  lifted.floor = floorHoldingPlane(mesh, scene);
   return lifted;
 }
 
@@ -143,6 +77,10 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
   if (Detector && solveScene.floorEnabled)
   {
     solveScene.floor.origin += Detector->margin() * solveScene.floor.normal;
+  }
+  if (solveScene.floorEnabled)
+  {
+    liftBodiesOntoPlane(Mesh, Masses.inverseMass, solveScene.floor, State.positions);
   }
   if (Scene.integrator == Integrator::ImplicitEuler)
   {

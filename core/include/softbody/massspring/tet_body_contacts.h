@@ -1,0 +1,34 @@
+// What the collision detector sees of a mass-spring tet body, and where its floor holds it:
+// shared by the CPU stepper, the GPU stepper's floor pass and the set-up's pre-stabilization.
+#pragma once
+
+#include "softbody/collision/collision_detector.h"
+#include "softbody/massspring/mass_spring_settings.h"
+#include "softbody/mesh/tet_mesh.h"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace softbody
+{
+
+/// The detector's geometry of a tet body: its boundary triangles (outward) and each point's
+/// connected body; every point collides, or only the surface vertices with self-collision.
+CollisionGeometry tetBodyGeometry(const TetMesh& mesh, CollisionMode mode);
+
+/// The plane where contacts hold points: the floor lifted by the collision margin of `mesh`
+/// (automatic or given); the floor itself with Collisions Off. Throws InvalidInputError for
+/// bad collision settings, as the detector does.
+FloorPlane floorHoldingPlane(const TetMesh& mesh, const SceneSettings& scene);
+
+/// Pre-stabilization (Macklin et al. 2014, initial penetration): each connected body with a
+/// point below `plane` is lifted rigidly along its normal by its deepest penetration, so it
+/// starts on the plane at rest. Projecting the points one by one in the first step instead
+/// crushes the bottom layer and throws the body up (a stiff block placed on the floor, within
+/// the contact margin, went 10 cm up). Bodies with pinned points (inverse mass 0) stay where
+/// they are and are pushed onto the plane by the contacts. Returns the bodies lifted.
+std::size_t liftBodiesOntoPlane(const TetMesh& mesh, const std::vector<double>& inverseMass,
+  const FloorPlane& plane, std::vector<Vec3>& positions);
+
+} // namespace softbody
