@@ -206,7 +206,7 @@ std::string longRunWarning(const StepCost& s, double duration)
             << "x fewer steps). ";
   }
   message << "Remedies: an implicit integrator (Integrator = Implicit Euler, stable at one step "
-             "per frame: about 58x faster per simulated second on a 157k-tet TetGen mesh in "
+             "per frame: about 11x faster per simulated second on a 157k-tet TetGen mesh in "
              "bench_implicit, at the price of numerical damping), a shorter EndTime, a softer "
              "material (lower YoungsModulus)";
   if (dampingLimited)
