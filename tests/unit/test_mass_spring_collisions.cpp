@@ -4,6 +4,7 @@
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
 #include "test_support.h"
+#include "collision_test_scenes.h"
 
 #include <tbb/global_control.h>
 
@@ -26,25 +27,6 @@ ObstacleSurface floorSquare(double height, double half = 2.0)
   s.vertices = { Vec3(-half, -half, height), Vec3(half, -half, height), Vec3(half, half, height),
     Vec3(-half, half, height) };
   s.triangles = { { 0, 1, 2 }, { 0, 2, 3 } };
-  return s;
-}
-
-/// A closed axis-aligned box obstacle [lo, hi], triangles counter-clockwise seen from outside.
-ObstacleSurface boxObstacle(const Vec3& lo, const Vec3& hi)
-{
-  ObstacleSurface s;
-  for (int k = 0; k < 8; ++k)
-  {
-    s.vertices.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
-  }
-  // Quads (outward, counter-clockwise), split in two.
-  const int quads[6][4] = { { 0, 2, 3, 1 }, { 4, 5, 7, 6 }, { 0, 1, 5, 4 }, { 2, 6, 7, 3 },
-    { 0, 4, 6, 2 }, { 1, 3, 7, 5 } };
-  for (const auto& q : quads)
-  {
-    s.triangles.push_back({ q[0], q[1], q[2] });
-    s.triangles.push_back({ q[0], q[2], q[3] });
-  }
   return s;
 }
 
@@ -340,7 +322,7 @@ TEST(MassSpringCollisions, AFastBodyDoesNotTunnelThroughAThinObstacle)
   // Off the diagonal x = y of the plate's triangles (see the report: a point right under a
   // shared edge is found through the edge, and the reduction may then keep the far face).
   MassSpringSimulation sim(box(2, 0.04, Vec3(-0.04, -0.03, 0.05)), obstacleScene(margin));
-  sim.setObstacles({ boxObstacle(Vec3(-1, -1, -plate), Vec3(1, 1, 0)) }, 0.0);
+  sim.setObstacles({ test::boxObstacle(Vec3(-1, -1, -plate), Vec3(1, 1, 0)) }, 0.0);
   DynamicState launched = sim.state();
   const double speed = 40.0; // m/s, straight down
   for (Vec3& v : launched.velocities)
@@ -370,7 +352,7 @@ TEST(MassSpringCollisions, OneAndTwoThreadsGiveBitIdenticalStates)
     scene.collisions.dynamicFriction = 0.3;
     scene.collisions.restitution = 0.3;
     MassSpringSimulation sim(body, scene);
-    sim.setObstacles({ boxObstacle(Vec3(-0.05, -0.05, -0.2), Vec3(0.05, 0.05, 0.0)) }, 0.0);
+    sim.setObstacles({ test::boxObstacle(Vec3(-0.05, -0.05, -0.2), Vec3(0.05, 0.05, 0.0)) }, 0.0);
     sim.advance(0.1);
     return sim.state();
   };

@@ -1,6 +1,7 @@
 #include "softbody/collision/point_octree.h"
 
 #include "softbody/common/parallel.h"
+#include "softbody/common/morton.h"
 
 #include <algorithm>
 #include <numeric>
@@ -12,18 +13,6 @@ namespace
 {
 
 constexpr int kBitsPerAxis = 21; // 63-bit codes
-
-/// Spreads the low 21 bits of v so that two zero bits follow each (Morton interleaving).
-std::uint64_t spreadBits(std::uint64_t v)
-{
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffull;
-  v = (v | v << 16) & 0x1f0000ff0000ffull;
-  v = (v | v << 8) & 0x100f00f00f00f00full;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-  v = (v | v << 2) & 0x1249249249249249ull;
-  return v;
-}
 
 } // namespace
 

@@ -1,6 +1,7 @@
 #include "softbody/mesh/reorder.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/common/morton.h"
 
 #include <algorithm>
 #include <numeric>
@@ -10,18 +11,6 @@ namespace softbody
 {
 namespace
 {
-
-/// The 21 low bits of v spread to every third bit (bit i -> bit 3i).
-std::uint64_t spreadBits(std::uint64_t v)
-{
-  v &= 0x1fffffull;
-  v = (v | v << 32) & 0x1f00000000ffffull;
-  v = (v | v << 16) & 0x1f0000ff0000ffull;
-  v = (v | v << 8) & 0x100f00f00f00f00full;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-  v = (v | v << 2) & 0x1249249249249249ull;
-  return v;
-}
 
 /// Symmetric vertex adjacency (tet edges and links) as CSR, neighbours sorted, no repeats.
 void buildAdjacency(std::size_t n, const std::vector<Tet>& tets,
