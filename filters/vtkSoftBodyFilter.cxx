@@ -152,6 +152,32 @@ public:
   /// The time the moving obstacles are requested at in the coming pass (time protocol).
   double ObstacleRequestTime = 0.0;
 
+  /// The obstacle surfaces at time t, for the skinned Surface's correction: the static ones,
+  /// and the moving ones as fetched for t (a moving one not fetched at t is left out).
+  std::vector<softbody::ObstacleSurface> ObstaclesAt(double t, double tolerance) const
+  {
+    std::vector<softbody::ObstacleSurface> surfaces;
+    // The fetch nearest to t (fetched at frame times k * FrameInterval, which a requested
+    // time may differ from by rounding).
+    auto moving = this->MovingObstaclesAt.lower_bound(t - tolerance);
+    if (moving != this->MovingObstaclesAt.end() && std::abs(moving->first - t) > tolerance)
+    {
+      moving = this->MovingObstaclesAt.end();
+    }
+    for (std::size_t c = 0; c < this->Obstacles.size(); ++c)
+    {
+      if (!this->Obstacles[c].Moving)
+      {
+        surfaces.push_back(this->Obstacles[c].Static);
+      }
+      else if (moving != this->MovingObstaclesAt.end() && c < moving->second.size())
+      {
+        surfaces.push_back(moving->second[c]);
+      }
+    }
+    return surfaces;
+  }
+
   bool HasMovingObstacles() const
   {
     return std::any_of(this->Obstacles.begin(), this->Obstacles.end(),
@@ -494,7 +520,7 @@ int vtkSoftBodyFilter::RequestData(
     floor.origin = softbody::Vec3(this->P.FloorOrigin[0], this->P.FloorOrigin[1], this->P.FloorOrigin[2]);
     floor.normal = softbody::Vec3(this->P.FloorNormal[0], this->P.FloorNormal[1], this->P.FloorNormal[2]);
     this->Internals->Skin.Fill(surface, this->Internals->Simulation->positions(), skinned,
-      this->P.Floor != 0 ? &floor : nullptr);
+      this->P.Floor != 0 ? &floor : nullptr, this->Internals->ObstaclesAt(this->Internals->Simulation->time(), 1e-6 * this->P.FrameInterval));
   }
   vtkSoftBodyFloorOutput::Fill(
     this->P.Floor != 0, this->P.FloorOrigin, this->P.FloorNormal, input->GetBounds(), floorOutput);

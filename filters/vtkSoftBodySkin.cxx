@@ -3,6 +3,7 @@
 #include "vtkCellData.h"
 #include "vtkCellType.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkGenericCell.h"
@@ -16,6 +17,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/lattice/skin_correction.h"
 
 #include <algorithm>
 #include <cmath>
@@ -218,14 +220,18 @@ std::string vtkSoftBodySkin::BindToTets(vtkUnstructuredGrid* body, const std::ve
 
 //------------------------------------------------------------------------------
 void vtkSoftBodySkin::Fill(vtkPolyData* surface, const std::vector<softbody::Vec3>& particles,
-  vtkPolyData* output, const softbody::FloorPlane* floor) const
+  vtkPolyData* output, const softbody::FloorPlane* floor,
+  const std::vector<softbody::ObstacleSurface>& obstacles) const
 {
   std::vector<softbody::Vec3> moved;
   softbody::applySkin(this->Skin, particles, moved);
-  if (floor)
-  {
-    softbody::keepAboveFloor(*floor, moved);
-  }
+  // The reach is taken before any correction: how far the skin itself puts a vertex from the
+  // particles that the contacts keep outside.
+  const std::vector<double> reach =
+    obstacles.empty() ? std::vector<double>() : softbody::skinReach(this->Skin, particles, moved);
+  const softbody::SkinCorrection onFloor = floor ? softbody::keepAboveFloor(*floor, moved) : softbody::SkinCorrection();
+  const softbody::SkinCorrection outOfObstacles =
+    obstacles.empty() ? softbody::SkinCorrection() : softbody::keepOutsideObstacles(obstacles, reach, moved);
   auto points = vtkSmartPointer<vtkPoints>::New();
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(static_cast<vtkIdType>(moved.size()));
@@ -238,6 +244,16 @@ void vtkSoftBodySkin::Fill(vtkPolyData* surface, const std::vector<softbody::Vec
   output->GetPointData()->PassData(surface->GetPointData());
   output->GetCellData()->PassData(surface->GetCellData());
   output->GetFieldData()->PassData(surface->GetFieldData());
+  auto addField = [&](const char* name, double value) {
+    vtkNew<vtkDoubleArray> array;
+    array->SetName(name);
+    array->InsertNextValue(value);
+    output->GetFieldData()->AddArray(array);
+  };
+  addField("SkinnedMovedOntoFloor", static_cast<double>(onFloor.moved));
+  addField("SkinnedDeepestBelowFloor", onFloor.deepest);
+  addField("SkinnedMovedOutOfObstacles", static_cast<double>(outOfObstacles.moved));
+  addField("SkinnedDeepestInObstacles", outOfObstacles.deepest);
 
   // Normals of the moved surface, computed on a copy so the output keeps every cell and point
   // as given (splitting off: one normal per input point).

@@ -12,6 +12,8 @@
 #ifndef vtkSoftBodySkin_h
 #define vtkSoftBodySkin_h
 
+#include "softbody/collision/obstacle.h"
+#include "softbody/common/floor_plane.h"
 #include "softbody/lattice/skinning.h"
 
 #include "vtkType.h"
@@ -31,9 +33,14 @@ public:
 
   /// `output` = `surface` (same cells and arrays) with its points moved onto the body's
   /// current particle positions and its point normals recomputed.
-  /// With a floor, vertices that the skin puts below it are moved onto it (render correction).
+  /// With a floor, vertices that the skin puts below it are moved onto it, then those it puts
+  /// inside an obstacle (`obstacles` at the frame's time) onto its surface: render corrections
+  /// (softbody::keepAboveFloor, softbody::keepOutsideObstacles). The output's field data says
+  /// how many vertices each moved and the longest move: SkinnedMovedOntoFloor,
+  /// SkinnedDeepestBelowFloor [m], SkinnedMovedOutOfObstacles, SkinnedDeepestInObstacles [m].
   void Fill(vtkPolyData* surface, const std::vector<softbody::Vec3>& particles, vtkPolyData* output,
-    const softbody::FloorPlane* floor = nullptr) const;
+    const softbody::FloorPlane* floor = nullptr,
+    const std::vector<softbody::ObstacleSurface>& obstacles = {}) const;
 
   std::size_t GetOutsideCount() const { return this->Skin.outsideCount; }
 

@@ -4,7 +4,8 @@ The jelly dropped onto a Sphere source (floor off) stays outside it, and falls i
 Collisions = Off (so the check can fail); a time-dependent obstacle (a Programmable Source wall
 that moves with the requested time) pushes a body along the floor; bad collision values are
 refused with a message quoting them; Device = GPU (EGL) with an obstacle runs on the CPU and
-says why in Warnings."""
+says why in Warnings; the bundled torus, voxelized and dropped onto a sphere, draws its skinned
+Surface outside the sphere (within the contact margin), which the skin alone would not."""
 
 import builtins
 import math
@@ -12,6 +13,7 @@ import os
 import textwrap
 
 import numpy as np
+import vtk
 from paraview.simple import *  # noqa: F401,F403
 
 import softbody_testing as sbt
@@ -110,6 +112,38 @@ def main():
     sbt.check("simulating on the CPU" in warnings and "Obstacles input" in warnings,
               f"Warnings says why ({warnings!r})")
     errors.close()
+
+    # 5. The skinned Surface of a voxelized body stays outside the obstacle it lands on. The
+    # torus's surface is extrapolated beyond its lattice's outer particles, so where the ring
+    # bends over the sphere the skin alone draws it inside; the render correction puts those
+    # vertices onto the sphere, and the filter reports how many it moved and how deep they were.
+    torus = XMLPolyDataReader(FileName=[os.path.join(args.data_dir, "torus.vtp")])
+    spacing = 0.03
+    lattice = SoftBodyVoxelize(Input=torus, Spacing=spacing)
+    ball = Triangulate(Input=Sphere(Center=[0.1, 0.0, 0.0], Radius=0.25, ThetaResolution=32, PhiResolution=32))
+    ball.UpdatePipeline()
+    distance = vtk.vtkImplicitPolyDataDistance()  # signed, negative inside (outward normals)
+    distance.SetInput(ball.GetClientSideObject().GetOutputDataObject(0))
+    margin = 0.1 * 0.5 * spacing  # automatic: a tenth of the particle radius
+    for method in ["PBD", "XPBD"]:
+        body = SoftBody(Input=lattice, Surface=torus, Obstacles=[ball], Floor=0, Method=method,
+                        EndTime=0.4, FrameInterval=0.05)
+        deepest_drawn, moved, deepest_corrected = 0.0, 0, 0.0
+        for t in [0.2, 0.25, 0.3, 0.35, 0.4]:
+            skinned = sbt.output_at(body, t, 3)
+            inside = -builtins.min(distance.EvaluateFunction(x) for x in sbt.points_of(skinned))
+            deepest_drawn = builtins.max(deepest_drawn, inside)
+            moved += int(sbt.field_value(skinned, "SkinnedMovedOutOfObstacles"))
+            deepest_corrected = builtins.max(deepest_corrected, sbt.field_value(skinned, "SkinnedDeepestInObstacles"))
+        print(f"{method}: skinned torus on a sphere, 0.2-0.4 s: deepest vertex drawn {deepest_drawn:.2e} m "
+              f"inside (margin {margin:.2e} m); the correction moved {moved} vertices, the deepest "
+              f"from {deepest_corrected:.4f} m inside")
+        sbt.check(deepest_drawn <= margin, f"{method}: the skinned Surface is no deeper than the margin "
+                  f"inside the obstacle ({deepest_drawn:.2e} m)")
+        sbt.check(moved > 0 and deepest_corrected > 2 * margin,
+                  f"{method}: without the correction the skin would draw vertices deeper than the margin "
+                  f"({moved} moved, deepest {deepest_corrected:.4f} m)")
+        Delete(body)
     print("python.obstacles passed")
 
 

@@ -2,6 +2,7 @@
 #include "softbody/common/errors.h"
 #include "softbody/lattice/lattice.h"
 #include "softbody/mesh/mesh_generators.h"
+#include "softbody/lattice/skin_correction.h"
 #include "softbody/lattice/skinning.h"
 
 #include "test_support.h"
@@ -171,7 +172,7 @@ TEST(Skinning, SurfaceBelowTheFloorIsMovedOntoIt)
   ASSERT_LT(lowest(), -0.01);
   const std::vector<Vec3> before = skinned;
   FloorPlane floor;
-  const std::size_t moved = keepAboveFloor(floor, skinned);
+  const std::size_t moved = keepAboveFloor(floor, skinned).moved;
   EXPECT_GT(moved, 0u);
   EXPECT_EQ(lowest(), 0.0);
   std::size_t changed = 0;

@@ -185,20 +185,4 @@ void applySkin(const Skin& skin, const std::vector<Vec3>& particlePositions, std
   });
 }
 
-std::size_t keepAboveFloor(const FloorPlane& floor, std::vector<Vec3>& vertices)
-{
-  const Vec3 n = floor.normal.normalized();
-  std::size_t moved = 0;
-  for (Vec3& x : vertices)
-  {
-    const double height = n.dot(x - floor.origin);
-    if (height < 0.0)
-    {
-      x -= height * n;
-      ++moved;
-    }
-  }
-  return moved;
-}
-
 } // namespace softbody

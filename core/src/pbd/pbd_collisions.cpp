@@ -62,6 +62,12 @@ void PbdSimulation::setUpCollisions(const std::vector<Tet>& tets,
       onSurface[static_cast<std::size_t>(v)] = 1;
     }
   }
+  // Interior points of tet bodies collide too (as in mass-spring), except with self
+  // collisions, where an interior point lies behind its own body's one-sided triangles. With
+  // only surface vertices held, the floor stopped the bottom surface while the interior
+  // points above it fell on through, inverting the bottom tets (an XPBD ellipsoid of 19,019
+  // tets resting on the floor: 203 inverted after 0.04 s, 1,129 after 0.2 s).
+  const bool interiorCollides = Settings.collisions.mode != CollisionMode::ObstaclesBodiesAndSelf;
   geometry.radius.assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -70,7 +76,7 @@ void PbdSimulation::setUpCollisions(const std::vector<Tet>& tets,
     {
       geometry.radius[i] = Settings.particleRadius;
     }
-    if (particle || onSurface[i])
+    if (particle || onSurface[i] || (interiorCollides && inTet[i]))
     {
       geometry.collidingPoints.push_back(static_cast<std::int32_t>(i));
     }

@@ -37,8 +37,9 @@ struct CollisionGeometry
   /// started the substep on), 0 when one-sided (a closed tet surface: points are pushed to
   /// its outside). Empty = all one-sided.
   std::vector<std::uint8_t> twoSided;
-  /// Points that can touch anything: surface vertices and particles (pinned points included;
-  /// the response leaves points of inverse mass 0 where they are).
+  /// Points that can touch anything: surface vertices and particles, and the interior points
+  /// of tet bodies unless self collisions are on (pinned points included; the response
+  /// leaves points of inverse mass 0 where they are).
   std::vector<std::int32_t> collidingPoints;
 };
 

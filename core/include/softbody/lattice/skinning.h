@@ -5,7 +5,6 @@
 // affine deformation) of the body moves the surface exactly the same way.
 #pragma once
 
-#include "softbody/common/floor_plane.h"
 #include "softbody/common/geometry.h"
 #include "softbody/lattice/lattice.h"
 
@@ -38,11 +37,6 @@ Skin bindToTets(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
 /// The skinned vertex positions for the current particle positions (parallel gather).
 void applySkin(const Skin& skin, const std::vector<Vec3>& particlePositions, std::vector<Vec3>& vertices);
 
-/// Render-surface correction at the floor: moves every vertex below the plane onto it along the
-/// normal and returns how many moved. The particles stay above the floor, but a vertex bound by
-/// extrapolation (outside its cell or tet, as the surface of a voxelized body is) or inside a
-/// cell that the contact squashes or tilts is not a convex combination of them and can end
-/// below it (voxelized spot: 12 cm). Only the drawn surface is corrected; the body is not.
-std::size_t keepAboveFloor(const FloorPlane& floor, std::vector<Vec3>& vertices);
+/// The corrections against the floor and obstacles are in skin_correction.h.
 
 } // namespace softbody
