@@ -3,8 +3,10 @@
 //   - XPBD: one iteration of links + tet volumes swept color by color (the parallel
 //     Gauss-Seidel solver's storage), per constraint ('scalar'), with the wide kernels at the
 //     baseline level (SSE2: two doubles per instruction) and at AVX2 (four); sequential
-//     Gauss-Seidel over the same batches for reference (its projections depend on each other,
-//     so it stays scalar); the wide sweep at all threads;
+//     Gauss-Seidel for reference (its projections depend on each other, so it stays scalar),
+//     over the batches stored as PbdSimulation stores them for it: sorted by vertex, then
+//     interleaved in four streams (pbd_solvers.h, interleavedStreams); the wide sweep at all
+//     threads;
 //   - mass-spring: the internal forces (both element passes and the per-vertex gather) at each
 //     level, and at all threads.
 // 1-thread times are the calling thread's CPU time (min of --repeat runs; other processes
@@ -67,6 +69,8 @@ struct Body
   DistanceBatch links;
   VolumeBatch volumes;
   BatchSchedule linkSchedule, volumeSchedule;
+  DistanceBatch sequentialLinks; ///< the same constraints in sequential Gauss-Seidel's order
+  VolumeBatch sequentialVolumes;
 };
 
 /// XPBD batches of the mesh stored color by color, compliant (alphaTilde of a soft rubber at a
@@ -104,6 +108,14 @@ Body makeBody(const std::vector<Vec3>& points, const Topology& topology)
   body.volumes.broken.assign(body.volumes.tets.size(), 0);
   body.volumes.lambda.assign(body.volumes.tets.size(), 0.0);
   body.volumes.params.assign(body.volumes.tets.size(), p);
+  body.sequentialLinks = body.links;
+  body.sequentialVolumes = body.volumes;
+  const std::vector<std::int32_t> linkStreams = interleavedStreams(body.links.size());
+  const std::vector<std::int32_t> tetStreams = interleavedStreams(body.volumes.size());
+  permute(body.sequentialLinks.ends, linkStreams);
+  permute(body.sequentialLinks.rest, linkStreams);
+  permute(body.sequentialVolumes.tets, tetStreams);
+  permute(body.sequentialVolumes.restVolume, tetStreams);
   const std::vector<char> movable(points.size(), 1);
   auto store = [&](auto& batch, BatchSchedule& schedule) {
     schedule.coloring = colorConstraints(points.size(), flattenParticles(batch), std::decay_t<decltype(batch)>::Arity, movable);
@@ -137,8 +149,8 @@ void iterate(Body& body, Sweep sweep)
 {
   if (sweep == Sweep::Sequential)
   {
-    gaussSeidelSweep(body.links, body.x, body.w);
-    gaussSeidelSweep(body.volumes, body.x, body.w);
+    gaussSeidelSweep(body.sequentialLinks, body.x, body.w);
+    gaussSeidelSweep(body.sequentialVolumes, body.x, body.w);
     return;
   }
   if (sweep == Sweep::Scalar)

@@ -75,6 +75,28 @@ inline void projectAndApply(Batch& batch, std::size_t c, std::vector<Vec3>& x, c
 }
 } // namespace detail
 
+/// The storage order of sequential Gauss-Seidel's batches (PbdSimulation): [0, count) cut into
+/// `streams` contiguous parts, taking one index of each part in turn (0, p, 2p, 3p, 1, p + 1,
+/// ...; p = ceil(count / streams)). Consecutive projections then rarely share a particle and the
+/// core overlaps them; each part keeps the order it had (by vertex: cache).
+inline std::vector<std::int32_t> interleavedStreams(std::size_t count, std::size_t streams = 4)
+{
+  std::vector<std::int32_t> order;
+  order.reserve(count);
+  const std::size_t part = (count + streams - 1) / streams;
+  for (std::size_t i = 0; i < part; ++i)
+  {
+    for (std::size_t s = 0; s < streams; ++s)
+    {
+      if (s * part + i < count)
+      {
+        order.push_back(static_cast<std::int32_t>(s * part + i));
+      }
+    }
+  }
+  return order;
+}
+
 template <class Batch>
 void gaussSeidelSweep(Batch& batch, std::vector<Vec3>& x, const std::vector<double>& w)
 {
