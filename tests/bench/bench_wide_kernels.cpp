@@ -3,18 +3,19 @@
 //   - XPBD: one iteration of links + tet volumes swept color by color (the parallel
 //     Gauss-Seidel solver's storage), per constraint ('scalar'), with the wide kernels at the
 //     baseline level (SSE2: two doubles per instruction) and at AVX2 (four); sequential
-//     Gauss-Seidel for reference (its projections depend on each other, so it stays scalar),
-//     over the batches stored as PbdSimulation stores them for it: sorted by vertex, then
-//     interleaved in four streams (pbd_solvers.h, interleavedStreams); the wide sweep at all
-//     threads;
+//     Gauss-Seidel over the batches stored as PbdSimulation stores them for it (sorted by
+//     vertex, then interleaved in four streams: pbd_solvers.h, interleavedStreams), one
+//     constraint at a time ('sequential') and with the wide kernels on the blocks of four that
+//     share no particle ('seq wide', the solver's path; same bits); the wide colored sweep at
+//     all threads;
 //   - mass-spring: the internal forces (both element passes and the per-vertex gather) at each
 //     level, and at all threads.
 // 1-thread times are the calling thread's CPU time (min of --repeat runs; other processes
 // compiling on a shared machine do not count), all-thread times are wall time. Each row also
-// checks that the scalar and every wide sweep end in the same bits. 'x bw' is the time over the
-// constraint data an iteration streams at least (indices, rest value, the two per-step constants,
-// multiplier read and written, broken flag: 49 B per link, 57 B per tet), at the triad bandwidth
-// this process measures.
+// checks that the scalar and every wide colored sweep end in the same bits, and the two
+// sequential ones. 'x bw' is the time over the constraint data an iteration streams at least
+// (indices, rest value, the two per-step constants, multiplier read and written, broken flag:
+// 49 B per link, 57 B per tet), at the triad bandwidth this process measures.
 // The all-thread columns hold only when no other process wants the other cores: the colored
 // sweep starts one parallel loop per color (about 60 per iteration on a TetGen mesh), and a
 // competing process, even at nice 19, can keep a worker off its core for a whole loop so the
@@ -71,6 +72,7 @@ struct Body
   BatchSchedule linkSchedule, volumeSchedule;
   DistanceBatch sequentialLinks; ///< the same constraints in sequential Gauss-Seidel's order
   VolumeBatch sequentialVolumes;
+  std::vector<char> linkBlocks, volumeBlocks; ///< their independent blocks of four
 };
 
 /// XPBD batches of the mesh stored color by color, compliant (alphaTilde of a soft rubber at a
@@ -116,6 +118,8 @@ Body makeBody(const std::vector<Vec3>& points, const Topology& topology)
   permute(body.sequentialLinks.rest, linkStreams);
   permute(body.sequentialVolumes.tets, tetStreams);
   permute(body.sequentialVolumes.restVolume, tetStreams);
+  body.linkBlocks = independentBlocks(body.sequentialLinks);
+  body.volumeBlocks = independentBlocks(body.sequentialVolumes);
   const std::vector<char> movable(points.size(), 1);
   auto store = [&](auto& batch, BatchSchedule& schedule) {
     schedule.coloring = colorConstraints(points.size(), flattenParticles(batch), std::decay_t<decltype(batch)>::Arity, movable);
@@ -142,11 +146,18 @@ enum class Sweep
   Scalar,
   WideBaseline,
   WideAvx2,
-  Sequential
+  Sequential,
+  SequentialWide
 };
 
 void iterate(Body& body, Sweep sweep)
 {
+  if (sweep == Sweep::SequentialWide)
+  {
+    gaussSeidelLinksWide(body.sequentialLinks, body.linkBlocks, body.x, body.w);
+    gaussSeidelVolumesWide(body.sequentialVolumes, body.volumeBlocks, body.x, body.w);
+    return;
+  }
   if (sweep == Sweep::Sequential)
   {
     gaussSeidelSweep(body.sequentialLinks, body.x, body.w);
@@ -219,8 +230,8 @@ int main(int argc, char** argv)
     simdLevelName(bestSimdLevel()), 1e-9 * bandwidth, maxThreads, 1e-9 * bandwidthAll);
   std::printf("XPBD, ms per iteration (links + tet volumes), Morton order; 1 thread: least CPU ms of %d runs; "
               "%d thr: wall ms\n", repeat, maxThreads);
-  std::printf("%-24s %8s %8s %9s %9s %9s %9s %9s %7s %7s %6s %5s %s\n", "mesh", "tets", "links", "scalar", "baseline",
-    "wide AVX2", "sequential", "wide Nthr", "scal/w", "1/Nthr", "x bw", "cores", "bits");
+  std::printf("%-24s %8s %8s %9s %9s %9s %10s %9s %9s %7s %7s %6s %5s %s\n", "mesh", "tets", "links", "scalar", "baseline",
+    "wide AVX2", "sequential", "seq wide", "wide Nthr", "scal/w", "1/Nthr", "x bw", "cores", "bits");
   const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
   struct ForceRow
   {
@@ -236,9 +247,9 @@ int main(int argc, char** argv)
     const Topology topology = buildTopology(points.size(), reorderTets(named.mesh.tets, reordering));
     const Body start = makeBody(points, topology);
 
-    double seconds[4] = { 0, 0, 0, 0 };
-    std::vector<Vec3> after[4];
-    for (Sweep sweep : { Sweep::Scalar, Sweep::WideBaseline, Sweep::WideAvx2, Sweep::Sequential })
+    double seconds[5] = { 0, 0, 0, 0, 0 };
+    std::vector<Vec3> after[5];
+    for (Sweep sweep : { Sweep::Scalar, Sweep::WideBaseline, Sweep::WideAvx2, Sweep::Sequential, Sweep::SequentialWide })
     {
       if (sweep == Sweep::WideAvx2 && !avx2)
       {
@@ -260,11 +271,12 @@ int main(int argc, char** argv)
     });
     const int best = avx2 ? int(Sweep::WideAvx2) : int(Sweep::WideBaseline);
     const bool same = std::memcmp(after[0].data(), after[1].data(), after[0].size() * sizeof(Vec3)) == 0 &&
-      (!avx2 || std::memcmp(after[0].data(), after[2].data(), after[0].size() * sizeof(Vec3)) == 0);
+      (!avx2 || std::memcmp(after[0].data(), after[2].data(), after[0].size() * sizeof(Vec3)) == 0) &&
+      std::memcmp(after[3].data(), after[4].data(), after[3].size() * sizeof(Vec3)) == 0;
     const double bytes = 49.0 * double(topology.edges.size()) + 57.0 * double(topology.tets.size());
-    std::printf("%-24s %8zu %8zu %9.3f %9.3f %9.3f %9.3f %9.3f %7.2f %7.2f %6.2f %5.2f %s\n", named.name.c_str(),
+    std::printf("%-24s %8zu %8zu %9.3f %9.3f %9.3f %10.3f %9.3f %9.3f %7.2f %7.2f %6.2f %5.2f %s\n", named.name.c_str(),
       topology.tets.size(), topology.edges.size(), 1e3 * seconds[0], 1e3 * seconds[1], 1e3 * seconds[2],
-      1e3 * seconds[3], 1e3 * threaded, seconds[0] / seconds[best], seconds[best] / threaded,
+      1e3 * seconds[3], 1e3 * seconds[4], 1e3 * threaded, seconds[0] / seconds[best], seconds[best] / threaded,
       seconds[best] / (bytes / bandwidth), cores, same ? "equal" : "DIFFER");
     if (!same)
     {

@@ -132,6 +132,11 @@ void PbdSimulation::storeLinksAndVolumesInStreams()
   // bodies change.
   storeLinksInOrder(interleavedStreams(Links.size()));
   storeVolumesInOrder(interleavedStreams(Volumes.size()));
+  // Blocks of four consecutive constraints then come from four parts of the body and almost
+  // never share a particle: those are projected as one block of lanes (pbd_wide_kernels.h),
+  // with the same result bit for bit.
+  LinkSchedule.independentBlocks = independentBlocks(Links);
+  VolumeSchedule.independentBlocks = independentBlocks(Volumes);
 }
 
 bool PbdSimulation::linkBroken(std::size_t link) const

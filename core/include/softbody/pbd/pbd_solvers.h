@@ -30,6 +30,9 @@ struct BatchSchedule
   /// The batch is stored color by color (coloring.order is the identity): the colored solver
   /// then runs the wide kernels over each color's contiguous range.
   bool storedByColor = false;
+  /// Sequential Gauss-Seidel: per block of four consecutive constraints, whether they share no
+  /// particle (pbd_wide_kernels.h, independentBlocks); empty: one constraint at a time.
+  std::vector<char> independentBlocks;
 };
 
 template <class Batch>
@@ -104,6 +107,30 @@ void gaussSeidelSweep(Batch& batch, std::vector<Vec3>& x, const std::vector<doub
   {
     detail::projectAndApply(batch, c, x, w);
   }
+}
+
+/// Sequential Gauss-Seidel with the wide kernels on the blocks the schedule marks independent:
+/// the same result bit for bit as gaussSeidelSweep.
+template <class Batch>
+void gaussSeidelSweep(Batch& batch, const BatchSchedule& schedule, std::vector<Vec3>& x, const std::vector<double>& w)
+{
+  if constexpr (std::is_same_v<Batch, DistanceBatch>)
+  {
+    if (!schedule.independentBlocks.empty())
+    {
+      gaussSeidelLinksWide(batch, schedule.independentBlocks, x, w);
+      return;
+    }
+  }
+  else if constexpr (std::is_same_v<Batch, VolumeBatch>)
+  {
+    if (!schedule.independentBlocks.empty())
+    {
+      gaussSeidelVolumesWide(batch, schedule.independentBlocks, x, w);
+      return;
+    }
+  }
+  gaussSeidelSweep(batch, x, w);
 }
 
 template <class Batch>
