@@ -41,14 +41,15 @@ namespace
 /// Least bytes one Euler-Cromer step moves through memory with core's layout (doubles,
 /// int32 indices), counting each array once per pass that streams it:
 ///   spring pass   per edge: 2 indices, l0, k, k_d, the force written            56 B
-///   volume pass   per tet: 4 indices, V0, k', k_d', the scale written           48 B
+///   volume pass   per tet: 4 indices, V0, k', k_d', the four corner forces
+///                 written (ForceScratch::tetCornerForce)                        136 B
 ///   gather        per edge end: item + edge + force (36 B); per tet corner:
-///                 item + scale + tet (28 B); per vertex: offsets, force out (32 B)
+///                 item + corner force (28 B); per vertex: offsets, force out (32 B)
 ///   accel + integrate + floor, per vertex: x, v read and written, a, w         176 B
 ///   positions and velocities read by each element pass, per vertex              96 B
 double modelledBytesPerStep(std::size_t vertices, std::size_t edges, std::size_t tets)
 {
-  return 56.0 * double(edges) + 48.0 * double(tets) + 36.0 * 2.0 * double(edges) +
+  return 56.0 * double(edges) + 136.0 * double(tets) + 36.0 * 2.0 * double(edges) +
     28.0 * 4.0 * double(tets) + (32.0 + 176.0 + 96.0) * double(vertices);
 }
 

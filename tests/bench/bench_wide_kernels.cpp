@@ -3,16 +3,26 @@
 //   - XPBD: one iteration of links + tet volumes swept color by color (the parallel
 //     Gauss-Seidel solver's storage), per constraint ('scalar'), with the wide kernels at the
 //     baseline level (SSE2: two doubles per instruction) and at AVX2 (four); sequential
-//     Gauss-Seidel over the same batches for reference (its projections depend on each other,
-//     so it stays scalar); the wide sweep at all threads;
+//     Gauss-Seidel over the batches stored as PbdSimulation stores them for it (sorted by
+//     vertex, then interleaved in four streams: pbd_solvers.h, interleavedStreams), one
+//     constraint at a time ('sequential') and with the wide kernels on the blocks of four that
+//     share no particle ('seq wide', the solver's path; same bits); the wide colored sweep at
+//     all threads;
 //   - mass-spring: the internal forces (both element passes and the per-vertex gather) at each
 //     level, and at all threads.
 // 1-thread times are the calling thread's CPU time (min of --repeat runs; other processes
 // compiling on a shared machine do not count), all-thread times are wall time. Each row also
-// checks that the scalar and every wide sweep end in the same bits. 'x bw' is the time over the
-// constraint data an iteration streams at least (indices, rest value, the two per-step constants,
-// multiplier read and written, broken flag: 49 B per link, 57 B per tet), at the triad bandwidth
-// this process measures.
+// checks that the scalar and every wide colored sweep end in the same bits, and the two
+// sequential ones. 'x bw' is the time over the constraint data an iteration streams at least
+// (indices, rest value, the two per-step constants, multiplier read and written, broken flag:
+// 49 B per link, 57 B per tet), at the triad bandwidth this process measures.
+// The all-thread columns hold only when no other process wants the other cores: the colored
+// sweep starts one parallel loop per color (about 60 per iteration on a TetGen mesh), and a
+// competing process, even at nice 19, can keep a worker off its core for a whole loop so the
+// calling thread runs the worker's half too (measured on the 2-core machine: 1.0x, down to
+// 0.64x, instead of 2.0x idle). 'cores' is the compute probe run right before the all-thread
+// timings (memory_bandwidth.h): the rows whose value is well under the thread count were
+// measured on a shared machine.
 //
 // Usage: bench_wide_kernels [--smoke] [--data <shared data dir>] [--mesh <name or file>]
 //                           [--repeat <timed runs>]
@@ -60,6 +70,9 @@ struct Body
   DistanceBatch links;
   VolumeBatch volumes;
   BatchSchedule linkSchedule, volumeSchedule;
+  DistanceBatch sequentialLinks; ///< the same constraints in sequential Gauss-Seidel's order
+  VolumeBatch sequentialVolumes;
+  std::vector<char> linkBlocks, volumeBlocks; ///< their independent blocks of four
 };
 
 /// XPBD batches of the mesh stored color by color, compliant (alphaTilde of a soft rubber at a
@@ -97,6 +110,16 @@ Body makeBody(const std::vector<Vec3>& points, const Topology& topology)
   body.volumes.broken.assign(body.volumes.tets.size(), 0);
   body.volumes.lambda.assign(body.volumes.tets.size(), 0.0);
   body.volumes.params.assign(body.volumes.tets.size(), p);
+  body.sequentialLinks = body.links;
+  body.sequentialVolumes = body.volumes;
+  const std::vector<std::int32_t> linkStreams = interleavedStreams(body.links.size());
+  const std::vector<std::int32_t> tetStreams = interleavedStreams(body.volumes.size());
+  permute(body.sequentialLinks.ends, linkStreams);
+  permute(body.sequentialLinks.rest, linkStreams);
+  permute(body.sequentialVolumes.tets, tetStreams);
+  permute(body.sequentialVolumes.restVolume, tetStreams);
+  body.linkBlocks = independentBlocks(body.sequentialLinks);
+  body.volumeBlocks = independentBlocks(body.sequentialVolumes);
   const std::vector<char> movable(points.size(), 1);
   auto store = [&](auto& batch, BatchSchedule& schedule) {
     schedule.coloring = colorConstraints(points.size(), flattenParticles(batch), std::decay_t<decltype(batch)>::Arity, movable);
@@ -123,15 +146,22 @@ enum class Sweep
   Scalar,
   WideBaseline,
   WideAvx2,
-  Sequential
+  Sequential,
+  SequentialWide
 };
 
 void iterate(Body& body, Sweep sweep)
 {
+  if (sweep == Sweep::SequentialWide)
+  {
+    gaussSeidelLinksWide(body.sequentialLinks, body.linkBlocks, body.x, body.w);
+    gaussSeidelVolumesWide(body.sequentialVolumes, body.volumeBlocks, body.x, body.w);
+    return;
+  }
   if (sweep == Sweep::Sequential)
   {
-    gaussSeidelSweep(body.links, body.x, body.w);
-    gaussSeidelSweep(body.volumes, body.x, body.w);
+    gaussSeidelSweep(body.sequentialLinks, body.x, body.w);
+    gaussSeidelSweep(body.sequentialVolumes, body.x, body.w);
     return;
   }
   if (sweep == Sweep::Scalar)
@@ -195,17 +225,18 @@ int main(int argc, char** argv)
     tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
     bandwidth = bench::measureTriadBandwidth(options.smoke ? 1u << 20 : 1u << 25, options.smoke ? 1 : 5);
   }
-  std::printf("best SIMD level of this CPU: %s; triad bandwidth, 1 thread: %.2f GB/s\n",
-    simdLevelName(bestSimdLevel()), 1e-9 * bandwidth);
+  const double bandwidthAll = bench::measureTriadBandwidth(options.smoke ? 1u << 20 : 1u << 25, options.smoke ? 1 : 5);
+  std::printf("best SIMD level of this CPU: %s; triad bandwidth, 1 thread: %.2f GB/s, %d threads: %.2f GB/s\n",
+    simdLevelName(bestSimdLevel()), 1e-9 * bandwidth, maxThreads, 1e-9 * bandwidthAll);
   std::printf("XPBD, ms per iteration (links + tet volumes), Morton order; 1 thread: least CPU ms of %d runs; "
               "%d thr: wall ms\n", repeat, maxThreads);
-  std::printf("%-24s %8s %8s %9s %9s %9s %9s %9s %7s %7s %6s %s\n", "mesh", "tets", "links", "scalar", "baseline",
-    "wide AVX2", "sequential", "wide Nthr", "scal/w", "1/Nthr", "x bw", "bits");
+  std::printf("%-24s %8s %8s %9s %9s %9s %10s %9s %9s %7s %7s %6s %5s %s\n", "mesh", "tets", "links", "scalar", "baseline",
+    "wide AVX2", "sequential", "seq wide", "wide Nthr", "scal/w", "1/Nthr", "x bw", "cores", "bits");
   const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
   struct ForceRow
   {
     std::string name;
-    double baseline, avx2, threads;
+    double baseline, avx2, threads, cores;
   };
   std::vector<ForceRow> forceRows;
   for (const bench::NamedMesh& named : meshes)
@@ -216,9 +247,9 @@ int main(int argc, char** argv)
     const Topology topology = buildTopology(points.size(), reorderTets(named.mesh.tets, reordering));
     const Body start = makeBody(points, topology);
 
-    double seconds[4] = { 0, 0, 0, 0 };
-    std::vector<Vec3> after[4];
-    for (Sweep sweep : { Sweep::Scalar, Sweep::WideBaseline, Sweep::WideAvx2, Sweep::Sequential })
+    double seconds[5] = { 0, 0, 0, 0, 0 };
+    std::vector<Vec3> after[5];
+    for (Sweep sweep : { Sweep::Scalar, Sweep::WideBaseline, Sweep::WideAvx2, Sweep::Sequential, Sweep::SequentialWide })
     {
       if (sweep == Sweep::WideAvx2 && !avx2)
       {
@@ -231,6 +262,7 @@ int main(int argc, char** argv)
       iterate(check, sweep);
       after[int(sweep)] = check.x;
     }
+    const double cores = bench::measureComputeParallelism(options.smoke ? 1 : 3);
     Body parallel = start;
     parallel.linkSchedule.storedByColor = parallel.volumeSchedule.storedByColor = true;
     const double threaded = leastSeconds(repeat, calls, false, [&] {
@@ -239,12 +271,13 @@ int main(int argc, char** argv)
     });
     const int best = avx2 ? int(Sweep::WideAvx2) : int(Sweep::WideBaseline);
     const bool same = std::memcmp(after[0].data(), after[1].data(), after[0].size() * sizeof(Vec3)) == 0 &&
-      (!avx2 || std::memcmp(after[0].data(), after[2].data(), after[0].size() * sizeof(Vec3)) == 0);
+      (!avx2 || std::memcmp(after[0].data(), after[2].data(), after[0].size() * sizeof(Vec3)) == 0) &&
+      std::memcmp(after[3].data(), after[4].data(), after[3].size() * sizeof(Vec3)) == 0;
     const double bytes = 49.0 * double(topology.edges.size()) + 57.0 * double(topology.tets.size());
-    std::printf("%-24s %8zu %8zu %9.3f %9.3f %9.3f %9.3f %9.3f %7.2f %7.2f %6.2f %s\n", named.name.c_str(),
+    std::printf("%-24s %8zu %8zu %9.3f %9.3f %9.3f %10.3f %9.3f %9.3f %7.2f %7.2f %6.2f %5.2f %s\n", named.name.c_str(),
       topology.tets.size(), topology.edges.size(), 1e3 * seconds[0], 1e3 * seconds[1], 1e3 * seconds[2],
-      1e3 * seconds[3], 1e3 * threaded, seconds[0] / seconds[best], seconds[best] / threaded,
-      seconds[best] / (bytes / bandwidth), same ? "equal" : "DIFFER");
+      1e3 * seconds[3], 1e3 * seconds[4], 1e3 * threaded, seconds[0] / seconds[best], seconds[best] / threaded,
+      seconds[best] / (bytes / bandwidth), cores, same ? "equal" : "DIFFER");
     if (!same)
     {
       return 1;
@@ -256,7 +289,7 @@ int main(int argc, char** argv)
     const std::vector<Vec3> v(points.size(), Vec3(0.01, -0.02, 0.03));
     ForceScratch scratch;
     std::vector<Vec3> forces;
-    ForceRow row{ named.name, 0, 0, 0 };
+    ForceRow row{ named.name, 0, 0, 0, 0 };
     {
       tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
       row.baseline = leastSeconds(repeat, calls, true, [&] {
@@ -269,17 +302,18 @@ int main(int argc, char** argv)
         });
       }
     }
+    row.cores = bench::measureComputeParallelism(options.smoke ? 1 : 3);
     row.threads = leastSeconds(repeat, calls, false,
       [&] { computeInternalForces(topology, constants, start.x, v, scratch, forces); });
     forceRows.push_back(row);
   }
   std::printf("\nMass-spring internal forces (element passes + gather), ms per evaluation, Morton order\n");
-  std::printf("%-24s %10s %10s %10s %8s\n", "mesh", "base 1thr", "AVX2 1thr", "best Nthr", "1/Nthr");
+  std::printf("%-24s %10s %10s %10s %8s %6s\n", "mesh", "base 1thr", "AVX2 1thr", "best Nthr", "1/Nthr", "cores");
   for (const ForceRow& r : forceRows)
   {
     const double best = avx2 ? r.avx2 : r.baseline;
-    std::printf("%-24s %10.3f %10.3f %10.3f %8.2f\n", r.name.c_str(), 1e3 * r.baseline, 1e3 * r.avx2,
-      1e3 * r.threads, best / r.threads);
+    std::printf("%-24s %10.3f %10.3f %10.3f %8.2f %6.2f\n", r.name.c_str(), 1e3 * r.baseline, 1e3 * r.avx2,
+      1e3 * r.threads, best / r.threads, r.cores);
   }
   return 0;
 }

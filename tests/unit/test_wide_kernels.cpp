@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cstring>
 #include <numeric>
 
@@ -199,7 +200,93 @@ std::vector<Vec3> coloredSweepsWithThreads(std::size_t threads)
   return body.x;
 }
 
+/// Sequential Gauss-Seidel with the wide kernels on the independent blocks against the scalar
+/// sweep, over the batches in color order or in four interleaved streams of it.
+void expectSequentialWideEqualsScalar(DistanceKind kind, bool streams)
+{
+  const ColoredBody start = makeColoredBody(7, kind);
+  ColoredBody body = start;
+  auto reorder = [&](auto& batch) {
+    if (!streams)
+    {
+      return;
+    }
+    const std::vector<std::int32_t> order = interleavedStreams(batch.size());
+    if constexpr (std::is_same_v<std::decay_t<decltype(batch)>, DistanceBatch>)
+    {
+      permute(batch.ends, order);
+      permute(batch.rest, order);
+    }
+    else
+    {
+      permute(batch.tets, order);
+      permute(batch.restVolume, order);
+    }
+    permute(batch.broken, order);
+    permute(batch.lambda, order);
+    permute(batch.params, order);
+  };
+  reorder(body.links);
+  reorder(body.volumes);
+  const std::vector<char> linkBlocks = independentBlocks(body.links);
+  const std::vector<char> volumeBlocks = independentBlocks(body.volumes);
+  // Both paths run: blocks of lanes, and (color order: pinned particles shared) blocks one
+  // constraint at a time.
+  for (const std::vector<char>* blocks : { &linkBlocks, &volumeBlocks })
+  {
+    EXPECT_GT(std::count(blocks->begin(), blocks->end(), 1), 0);
+    if (!streams)
+    {
+      EXPECT_GT(std::count(blocks->begin(), blocks->end(), 0), 0);
+    }
+  }
+  ColoredBody scalar = body;
+  for (int sweep = 0; sweep < 3; ++sweep)
+  {
+    gaussSeidelSweep(scalar.links, scalar.x, scalar.w);
+    gaussSeidelSweep(scalar.volumes, scalar.x, scalar.w);
+  }
+  EXPECT_GT(test::maxDistance(scalar.x, body.x), 1e-5);
+  for (SimdLevel level : levelsThisCpuRuns())
+  {
+    ColoredBody wide = body;
+    for (int sweep = 0; sweep < 3; ++sweep)
+    {
+      gaussSeidelLinksWide(wide.links, linkBlocks, wide.x, wide.w, level);
+      gaussSeidelVolumesWide(wide.volumes, volumeBlocks, wide.x, wide.w, level);
+    }
+    EXPECT_TRUE(test::bitwiseEqual(wide.x, scalar.x))
+      << simdLevelName(level) << ": positions differ by up to " << test::maxDistance(wide.x, scalar.x) << " m";
+    EXPECT_TRUE(bitwiseEqual(wide.links.lambda, scalar.links.lambda)) << simdLevelName(level);
+    EXPECT_TRUE(bitwiseEqual(wide.volumes.lambda, scalar.volumes.lambda)) << simdLevelName(level);
+  }
+}
+
 } // namespace
+
+TEST(WideKernels, SequentialGaussSeidelWithIndependentBlocksEqualsTheScalarSweepBitForBit)
+{
+  // Color order: consecutive constraints of one color share no movable particle but may share
+  // pinned ones (those blocks run one at a time); streams: interleaved as PbdSimulation stores
+  // Gauss-Seidel's batches.
+  for (bool streams : { false, true })
+  {
+    expectSequentialWideEqualsScalar(DistanceKind::Equality, streams);
+    expectSequentialWideEqualsScalar(DistanceKind::AtLeast, streams);
+  }
+}
+
+TEST(WideKernels, IndependentBlocksFlagEveryBlockWithASharedParticle)
+{
+  DistanceBatch links;
+  // Blocks: {0-1, 2-3, 4-5, 6-7} independent; {0-1, 1-2, 3-4, 5-6} shares 1; {8-9} partial.
+  for (const std::array<std::int32_t, 2> e : { std::array<std::int32_t, 2>{ 0, 1 }, { 2, 3 }, { 4, 5 }, { 6, 7 },
+         { 0, 1 }, { 1, 2 }, { 3, 4 }, { 5, 6 }, { 8, 9 } })
+  {
+    links.ends.push_back(e);
+  }
+  EXPECT_EQ(independentBlocks(links), (std::vector<char>{ 1, 0 }));
+}
 
 TEST(WideKernels, ColoredLinkSweepsEqualTheScalarKernelBitForBit)
 {

@@ -187,7 +187,11 @@ void computeInternalForces(const Topology& topology, const ElementConstants& con
     elementPass<false>(topology, constants, positions, velocities, scratch.tetCornerForce, level);
   }
 
-  // Pass 2: gather in CSR order (fixed), one writer per vertex.
+  // Pass 2: gather in CSR order (fixed), one writer per vertex: the spring ends, then (a second
+  // loop that starts from the first one's sums, so the additions and their order are unchanged)
+  // the tet corners. One loop over both read two scattered streams at once (the spring forces
+  // with the edges' ends, the corner forces) and ran 0.6 ms slower per evaluation on one thread
+  // on the 180k-tet TetGen ellipsoid (4.9 against 4.3 ms; the same at 2 threads).
   forces.resize(topology.vertexCount);
   parallelFor(topology.vertexCount, kVertexGrain, [&](std::size_t i) {
     Vec3 sum = Vec3::Zero();
@@ -198,16 +202,20 @@ void computeInternalForces(const Topology& topology, const ElementConstants& con
       const Vec3& f = scratch.springForce[e];
       sum += (topology.edges[e].a == static_cast<std::int32_t>(i)) ? f : Vec3(-f);
     }
-    if (constants.hasVolumeTerm)
-    {
+    forces[i] = sum;
+  });
+  if (constants.hasVolumeTerm)
+  {
+    parallelFor(topology.vertexCount, kVertexGrain, [&](std::size_t i) {
+      Vec3 sum = forces[i];
       const Csr& corners = topology.vertexTetCorners;
       for (std::int32_t k = corners.offsets[i]; k < corners.offsets[i + 1]; ++k)
       {
         sum += scratch.tetCornerForce[static_cast<std::size_t>(corners.items[k])];
       }
-    }
-    forces[i] = sum;
-  });
+      forces[i] = sum;
+    });
+  }
 }
 
 double elasticEnergy(const Topology& topology, const ElementConstants& constants,

@@ -256,6 +256,10 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   {
     storeLinksAndVolumesByColor();
   }
+  else if (Settings.solver == PbdSolver::GaussSeidel)
+  {
+    storeLinksAndVolumesInStreams();
+  }
 
   Rest = std::move(body.points);
   State.positions = Rest;

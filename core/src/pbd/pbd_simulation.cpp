@@ -124,7 +124,7 @@ void PbdSimulation::projectAll(Stage stage)
     switch (Settings.solver)
     {
       case PbdSolver::GaussSeidel:
-        gaussSeidelSweep(batch, x, w);
+        gaussSeidelSweep(batch, schedule, x, w);
         break;
       case PbdSolver::ParallelGaussSeidel:
         coloredGaussSeidelSweep(batch, schedule, x, w);

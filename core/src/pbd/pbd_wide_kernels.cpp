@@ -108,6 +108,37 @@ SOFTBODY_SIMD_INLINE void sweepRange(Batch& batch, std::size_t begin, std::size_
   }
 }
 
+/// The whole batch in order: independent blocks as one block of lanes, the others (and the
+/// partial block at the end) one constraint at a time.
+template <class Lanes, class Batch>
+SOFTBODY_SIMD_INLINE void sequentialSweep(
+  Batch& batch, const std::vector<char>& independent, std::vector<Vec3>& x, const std::vector<double>& w)
+{
+  double* xyz = x.data()->data();
+  std::size_t c = 0;
+  if constexpr (!std::is_same_v<Lanes, double>)
+  {
+    for (std::size_t b = 0; b < independent.size(); ++b, c += simd::kWidth)
+    {
+      if (independent[b] != 0)
+      {
+        projectBlock<Lanes>(batch, c, xyz, w.data());
+      }
+      else
+      {
+        for (std::size_t k = 0; k < static_cast<std::size_t>(simd::kWidth); ++k)
+        {
+          projectBlock<double>(batch, c + k, xyz, w.data());
+        }
+      }
+    }
+  }
+  for (; c < batch.size(); ++c)
+  {
+    projectBlock<double>(batch, c, xyz, w.data());
+  }
+}
+
 void linksBaseline(DistanceBatch& b, std::size_t begin, std::size_t end, std::vector<Vec3>& x, const std::vector<double>& w)
 {
   sweepRange<double>(b, begin, end, x, w);
@@ -116,6 +147,28 @@ void volumesBaseline(VolumeBatch& b, std::size_t begin, std::size_t end, std::ve
 {
   sweepRange<double>(b, begin, end, x, w);
 }
+void sequentialLinksBaseline(
+  DistanceBatch& b, const std::vector<char>& independent, std::vector<Vec3>& x, const std::vector<double>& w)
+{
+  sequentialSweep<double>(b, independent, x, w);
+}
+void sequentialVolumesBaseline(
+  VolumeBatch& b, const std::vector<char>& independent, std::vector<Vec3>& x, const std::vector<double>& w)
+{
+  sequentialSweep<double>(b, independent, x, w);
+}
+#if SOFTBODY_HAVE_AVX2_PATH
+SOFTBODY_TARGET_AVX2 void sequentialLinksAvx2(
+  DistanceBatch& b, const std::vector<char>& independent, std::vector<Vec3>& x, const std::vector<double>& w)
+{
+  sequentialSweep<Lanes4>(b, independent, x, w);
+}
+SOFTBODY_TARGET_AVX2 void sequentialVolumesAvx2(
+  VolumeBatch& b, const std::vector<char>& independent, std::vector<Vec3>& x, const std::vector<double>& w)
+{
+  sequentialSweep<Lanes4>(b, independent, x, w);
+}
+#endif
 #if SOFTBODY_HAVE_AVX2_PATH
 SOFTBODY_TARGET_AVX2 void linksAvx2(
   DistanceBatch& b, std::size_t begin, std::size_t end, std::vector<Vec3>& x, const std::vector<double>& w)
@@ -156,6 +209,34 @@ void projectVolumesWide(VolumeBatch& batch, std::size_t begin, std::size_t end, 
 #endif
   (void)level;
   volumesBaseline(batch, begin, end, x, w);
+}
+
+void gaussSeidelLinksWide(DistanceBatch& batch, const std::vector<char>& independent, std::vector<Vec3>& x,
+  const std::vector<double>& w, SimdLevel level)
+{
+#if SOFTBODY_HAVE_AVX2_PATH
+  if (level == SimdLevel::Avx2)
+  {
+    sequentialLinksAvx2(batch, independent, x, w);
+    return;
+  }
+#endif
+  (void)level;
+  sequentialLinksBaseline(batch, independent, x, w);
+}
+
+void gaussSeidelVolumesWide(VolumeBatch& batch, const std::vector<char>& independent, std::vector<Vec3>& x,
+  const std::vector<double>& w, SimdLevel level)
+{
+#if SOFTBODY_HAVE_AVX2_PATH
+  if (level == SimdLevel::Avx2)
+  {
+    sequentialVolumesAvx2(batch, independent, x, w);
+    return;
+  }
+#endif
+  (void)level;
+  sequentialVolumesBaseline(batch, independent, x, w);
 }
 
 } // namespace softbody

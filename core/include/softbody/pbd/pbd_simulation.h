@@ -107,6 +107,7 @@ private:
   void updateLinks(double h);
   void markBrokenTets();
   void storeLinksAndVolumesByColor();
+  void storeLinksAndVolumesInStreams();
   /// Stores the batch in `order` (storage k takes the constraint now at order[k]) and composes
   /// LinkSlot / VolumeSlot and TetEdges with it.
   void storeLinksInOrder(const std::vector<std::int32_t>& order);

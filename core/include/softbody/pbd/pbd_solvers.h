@@ -30,6 +30,9 @@ struct BatchSchedule
   /// The batch is stored color by color (coloring.order is the identity): the colored solver
   /// then runs the wide kernels over each color's contiguous range.
   bool storedByColor = false;
+  /// Sequential Gauss-Seidel: per block of four consecutive constraints, whether they share no
+  /// particle (pbd_wide_kernels.h, independentBlocks); empty: one constraint at a time.
+  std::vector<char> independentBlocks;
 };
 
 template <class Batch>
@@ -75,6 +78,28 @@ inline void projectAndApply(Batch& batch, std::size_t c, std::vector<Vec3>& x, c
 }
 } // namespace detail
 
+/// The storage order of sequential Gauss-Seidel's batches (PbdSimulation): [0, count) cut into
+/// `streams` contiguous parts, taking one index of each part in turn (0, p, 2p, 3p, 1, p + 1,
+/// ...; p = ceil(count / streams)). Consecutive projections then rarely share a particle and the
+/// core overlaps them; each part keeps the order it had (by vertex: cache).
+inline std::vector<std::int32_t> interleavedStreams(std::size_t count, std::size_t streams = 4)
+{
+  std::vector<std::int32_t> order;
+  order.reserve(count);
+  const std::size_t part = (count + streams - 1) / streams;
+  for (std::size_t i = 0; i < part; ++i)
+  {
+    for (std::size_t s = 0; s < streams; ++s)
+    {
+      if (s * part + i < count)
+      {
+        order.push_back(static_cast<std::int32_t>(s * part + i));
+      }
+    }
+  }
+  return order;
+}
+
 template <class Batch>
 void gaussSeidelSweep(Batch& batch, std::vector<Vec3>& x, const std::vector<double>& w)
 {
@@ -82,6 +107,30 @@ void gaussSeidelSweep(Batch& batch, std::vector<Vec3>& x, const std::vector<doub
   {
     detail::projectAndApply(batch, c, x, w);
   }
+}
+
+/// Sequential Gauss-Seidel with the wide kernels on the blocks the schedule marks independent:
+/// the same result bit for bit as gaussSeidelSweep.
+template <class Batch>
+void gaussSeidelSweep(Batch& batch, const BatchSchedule& schedule, std::vector<Vec3>& x, const std::vector<double>& w)
+{
+  if constexpr (std::is_same_v<Batch, DistanceBatch>)
+  {
+    if (!schedule.independentBlocks.empty())
+    {
+      gaussSeidelLinksWide(batch, schedule.independentBlocks, x, w);
+      return;
+    }
+  }
+  else if constexpr (std::is_same_v<Batch, VolumeBatch>)
+  {
+    if (!schedule.independentBlocks.empty())
+    {
+      gaussSeidelVolumesWide(batch, schedule.independentBlocks, x, w);
+      return;
+    }
+  }
+  gaussSeidelSweep(batch, x, w);
 }
 
 template <class Batch>

@@ -30,4 +30,43 @@ void projectLinksWide(DistanceBatch& batch, std::size_t begin, std::size_t end, 
 void projectVolumesWide(VolumeBatch& batch, std::size_t begin, std::size_t end, std::vector<Vec3>& x,
   const std::vector<double>& w, SimdLevel level = bestSimdLevel());
 
+/// Sequential Gauss-Seidel over the whole batch in its order, four constraints at a time where
+/// `independent` (independentBlocks below) says a block of four consecutive constraints shares no
+/// particle, one at a time elsewhere. Constraints without a common particle commute exactly, so
+/// the result is the same bit for bit as gaussSeidelSweep (pbd_solvers.h).
+void gaussSeidelLinksWide(DistanceBatch& batch, const std::vector<char>& independent, std::vector<Vec3>& x,
+  const std::vector<double>& w, SimdLevel level = bestSimdLevel());
+void gaussSeidelVolumesWide(VolumeBatch& batch, const std::vector<char>& independent, std::vector<Vec3>& x,
+  const std::vector<double>& w, SimdLevel level = bestSimdLevel());
+
+/// For each whole block of simd::kWidth consecutive constraints: 1 when no particle (pinned or
+/// not) appears in two of its constraints. Depends only on the batch's particle indices.
+template <class Batch>
+std::vector<char> independentBlocks(const Batch& batch)
+{
+  constexpr std::size_t kWidth = static_cast<std::size_t>(simd::kWidth);
+  std::vector<char> independent(batch.size() / kWidth, 0);
+  for (std::size_t b = 0; b < independent.size(); ++b)
+  {
+    bool shared = false;
+    for (std::size_t i = 0; i < kWidth && !shared; ++i)
+    {
+      const std::int32_t* p = batch.particles(b * kWidth + i);
+      for (std::size_t j = i + 1; j < kWidth && !shared; ++j)
+      {
+        const std::int32_t* q = batch.particles(b * kWidth + j);
+        for (int k = 0; k < Batch::Arity && !shared; ++k)
+        {
+          for (int l = 0; l < Batch::Arity; ++l)
+          {
+            shared = shared || p[k] == q[l];
+          }
+        }
+      }
+    }
+    independent[b] = shared ? 0 : 1;
+  }
+  return independent;
+}
+
 } // namespace softbody
