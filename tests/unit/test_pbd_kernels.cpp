@@ -91,6 +91,73 @@ TEST(PbdKernels, VolumeConstraintRestoresTheRestVolume)
   EXPECT_LT(errors.back(), 1e-12 * rest); // and it converges (quadratically: a Newton step)
 }
 
+TEST(PbdKernels, SoftTetCrushedThroughZeroIsPushedBackAboveTheLeastVolume)
+{
+  // A soft XPBD tet (alphaTilde a million times its stiffness term) inverted by a load: its
+  // compliant equality step alone would move it by about a millionth of the way back; the
+  // non-inversion inequality takes it back to kLeastVolumeFraction of its rest volume, leaves
+  // its multiplier alone, and keeps linear momentum.
+  const std::array<Vec3, 4> rest = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1) };
+  const double restVolume = signedTetVolume(rest[0], rest[1], rest[2], rest[3]);
+  std::array<Vec3, 4> x = rest;
+  x[3] = Vec3(0.2, 0.3, -0.2); // the apex pushed through the base: V = -0.2 V0
+  const std::array<double, 4> w = { 1.0, 0.5, 2.0, 1.0 };
+  ProjectionParameters soft;
+  soft.alphaTilde = 1e6;
+  const double lambda = 0.0; // the first projection of a substep
+  std::vector<double> volumes;
+  for (int it = 0; it < 4; ++it)
+  {
+    const Projection<4> p = projectTetVolume(x, w, restVolume, lambda, soft);
+    if (it == 0)
+    {
+      EXPECT_EQ(p.dLambda, 0.0); // the inequality's step: the multiplier stays
+    }
+    Vec3 momentum = Vec3::Zero();
+    for (int k = 0; k < 4; ++k)
+    {
+      x[k] += p.dx[k];
+      momentum += p.dx[k] / w[k];
+    }
+    EXPECT_LT(momentum.norm(), 1e-15);
+    volumes.push_back(signedTetVolume(x[0], x[1], x[2], x[3]));
+  }
+  // The volume is cubic in the positions: one linearized step un-inverts the tet, the next
+  // reach the least volume (a hair above: once there only the soft equality acts).
+  const double least = kLeastVolumeFraction * restVolume;
+  EXPECT_GT(volumes[0], 0.0);
+  EXPECT_GE(volumes.back(), least);
+  EXPECT_LT(volumes.back(), 1.01 * least);
+
+  // Above the least volume the soft equality step is unchanged: tiny, and it updates lambda.
+  x = rest;
+  x[3] = Vec3(0.0, 0.0, 0.5); // V = 0.5 V0
+  const Projection<4> mild = projectTetVolume(x, w, restVolume, lambda, soft);
+  EXPECT_NE(mild.dLambda, 0.0);
+  EXPECT_LT(mild.dx[3].norm(), 1e-5);
+}
+
+TEST(PbdKernels, StiffTetCrushedTakesTheLargerEqualityStep)
+{
+  // Rigid (PBD stiffness 1): the equality asks for the whole rest volume, more than the
+  // inequality, so an inverted tet is projected as before, towards V0, in a Newton step.
+  const std::array<Vec3, 4> rest = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1) };
+  const double restVolume = signedTetVolume(rest[0], rest[1], rest[2], rest[3]);
+  std::array<Vec3, 4> x = rest;
+  x[3] = Vec3(0.2, 0.3, -0.2);
+  const std::array<double, 4> w = { 1.0, 1.0, 1.0, 1.0 };
+  for (int it = 0; it < 8; ++it)
+  {
+    const Projection<4> p = projectTetVolume(x, w, restVolume, 0.0, kRigid);
+    EXPECT_NE(p.dLambda, 0.0);
+    for (int k = 0; k < 4; ++k)
+    {
+      x[k] += p.dx[k];
+    }
+  }
+  EXPECT_NEAR(signedTetVolume(x[0], x[1], x[2], x[3]), restVolume, 1e-12 * restVolume);
+}
+
 // A projection moves particle k by w_k g_k dLambda; with unit inverse masses, dx_k / dLambda is
 // the gradient. Compare with central differences of the constraint function.
 void expectGradientMatches(const std::function<double(const std::vector<Vec3>&)>& C,

@@ -73,6 +73,9 @@ enum class DistanceKind
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi" // the lane templates are always inlined (common/simd.h)
 #endif
+/// The least volume a tet projection keeps, as a fraction of the rest volume (lanes::tetVolume).
+constexpr double kLeastVolumeFraction = 0.1;
+
 namespace lanes
 {
 /// What a distance or volume projection asks of its corners, for one lane (T = double) or
@@ -126,6 +129,13 @@ SOFTBODY_SIMD_INLINE ProjectionLanes<T, 2> distance(const simd::Vec3Lanes<T>& x0
 ///   dLambda = 36 q,   dx_k = w_k dLambda g_k = (6 q w_k) G_k.
 /// Two divisions per tet; the gradients divided by 6 took nine more (the divider's throughput
 /// was the kernel's bottleneck: see README, Performance).
+///
+/// Non-inversion: a tet crushed below kLeastVolumeFraction of its rest volume is projected as
+/// the hard inequality V >= kLeastVolumeFraction * restVolume (no compliance, its multiplier
+/// left as it is) instead of the compliant equality, where that asks for more. A compliant tet under a load the solve has
+/// not yet carried up through the body (a body landing on the floor, whose contacts lift its
+/// bottom layer) otherwise flips: with a soft compliance the equality's step is a small
+/// fraction of what it would take to undo it.
 template <class T>
 SOFTBODY_SIMD_INLINE ProjectionLanes<T, 4> tetVolume(const simd::Vec3Lanes<T>& x0, const simd::Vec3Lanes<T>& x1,
   const simd::Vec3Lanes<T>& x2, const simd::Vec3Lanes<T>& x3, const T (&w)[4], T restVolume, T lambda, T scale,
@@ -140,17 +150,26 @@ SOFTBODY_SIMD_INLINE ProjectionLanes<T, 4> tetVolume(const simd::Vec3Lanes<T>& x
   G[2] = simd::cross(e3, e1);
   G[3] = simd::cross(e1, e2);
   G[0] = -((G[1] + G[2]) + G[3]);
-  const T C = simd::dot(e1, G[1]) / broadcast<T>(6.0) - restVolume;
+  const T volume = simd::dot(e1, G[1]) / broadcast<T>(6.0);
+  const T C = volume - restVolume;
   const T weightedGradient2 = ((w[0] * simd::dot(G[0], G[0]) + w[1] * simd::dot(G[1], G[1])) +
                                 w[2] * simd::dot(G[2], G[2])) + w[3] * simd::dot(G[3], G[3]);
   const auto stiff = scale != zero; // zero stiffness asks for nothing
   const T residual = C + alphaTilde * lambda;
-  const T denominator = weightedGradient2 + broadcast<T>(36.0) * alphaTilde;
+  const T equalityDenominator = weightedGradient2 + broadcast<T>(36.0) * alphaTilde;
+  // The hard inequality where it asks for more than the equality's step (a stiff tet's own step
+  // can): (least - V) / sum w|G|^2 > -residual / equalityDenominator, cross-multiplied (both
+  // denominators positive where anything moves) to keep one division per tet.
+  const T shortfall = broadcast<T>(kLeastVolumeFraction) * restVolume - volume;
+  const auto hard = simd::both(shortfall > zero,
+    shortfall * equalityDenominator > -residual * weightedGradient2);
+  const T demand = simd::select(hard, shortfall, -residual);
+  const T denominator = simd::select(hard, weightedGradient2, equalityDenominator);
   // All corners pinned, or a flat tet (zero gradients): nothing can move.
   const auto solves = simd::both(stiff, denominator > zero);
-  const T q = simd::select(solves, (-scale * residual) / denominator, zero);
+  const T q = simd::select(solves, (scale * demand) / denominator, zero);
   out.residual = simd::select(stiff, residual, zero);
-  out.dLambda = broadcast<T>(36.0) * q;
+  out.dLambda = simd::select(hard, zero, broadcast<T>(36.0) * q);
   const T sixQ = broadcast<T>(6.0) * q;
   for (int k = 0; k < 4; ++k)
   {
