@@ -105,24 +105,27 @@ vtkMultiProcessController* vtkSoftBodyDistribution::ParallelController()
 
 //------------------------------------------------------------------------------
 vtkUnstructuredGrid* vtkSoftBodyDistribution::LocalBodies(
-  vtkUnstructuredGrid* piece, vtkMultiProcessController* controller)
+  vtkUnstructuredGrid* piece, vtkMultiProcessController* controller, bool together)
 {
   // Decided together: if any rank's piece changed, every rank takes part in redistributing.
-  int changed = (!this->Local || piece != this->Piece || piece->GetMTime() != this->PieceMTime) ? 1 : 0;
+  int changed = (!this->Local || piece != this->Piece || piece->GetMTime() != this->PieceMTime ||
+                  together != this->Together) ? 1 : 0;
   int anyChanged = 0;
   controller->AllReduce(&changed, &anyChanged, 1, vtkCommunicator::MAX_OP);
+  this->LastRedistributed = anyChanged != 0;
   if (anyChanged)
   {
-    this->Redistribute(piece, controller);
+    this->Redistribute(piece, controller, together);
     this->Piece = piece;
     this->PieceMTime = piece->GetMTime();
+    this->Together = together;
   }
   return this->Local;
 }
 
 //------------------------------------------------------------------------------
 void vtkSoftBodyDistribution::Redistribute(
-  vtkUnstructuredGrid* piece, vtkMultiProcessController* controller)
+  vtkUnstructuredGrid* piece, vtkMultiProcessController* controller, bool together)
 {
   const int rank = controller->GetLocalProcessId();
   const int ranks = controller->GetNumberOfProcesses();
@@ -150,7 +153,8 @@ void vtkSoftBodyDistribution::Redistribute(
     }
     if (append->GetNumberOfInputConnections(0) > 0)
     {
-      // Bodies: connected components, each dealt whole, largest first to the least loaded rank.
+      // Bodies: connected components, each dealt whole, largest first to the least loaded rank
+      // (all to rank 0 when they collide with each other).
       // (Not vtkConnectivityFilter: in ParaView its factory makes vtkPConnectivityFilter, which
       // communicates and would wait for the other ranks while only rank 0 runs here.)
       append->Update();
@@ -176,7 +180,7 @@ void vtkSoftBodyDistribution::Redistribute(
       std::vector<int> rankOfBody(static_cast<std::size_t>(bodies), 0);
       for (int body : order)
       {
-        const auto least = std::min_element(load.begin(), load.end()) - load.begin();
+        const auto least = together ? 0 : std::min_element(load.begin(), load.end()) - load.begin();
         rankOfBody[static_cast<std::size_t>(body)] = static_cast<int>(least);
         load[static_cast<std::size_t>(least)] += cellsOfBody[static_cast<std::size_t>(body)];
       }

@@ -9,7 +9,9 @@
  * merging the interface points the pieces share (points at exactly the same coordinates are
  * one point), splits the result into bodies (connected components: cells sharing a point) and
  * deals whole bodies to the ranks, largest first to the least loaded rank. Each rank then
- * simulates only its bodies; a rank without a body outputs nothing.
+ * simulates only its bodies; a rank without a body outputs nothing. When the bodies collide with
+ * each other (`together`), they are all dealt to rank 0: bodies on different ranks could not
+ * meet, and the result would differ from the serial one.
  *
  * All ranks must call LocalBodies() together (it communicates). It redistributes only when the
  * piece of some rank changed (a collective decision, so no rank waits on another), so a time
@@ -34,19 +36,26 @@ public:
   /// runs alone.
   static vtkMultiProcessController* ParallelController();
 
-  /// This rank's whole bodies from this rank's piece; empty on ranks without a body.
-  vtkUnstructuredGrid* LocalBodies(vtkUnstructuredGrid* piece, vtkMultiProcessController* controller);
+  /// This rank's whole bodies from this rank's piece; empty on ranks without a body. With
+  /// `together`, every body goes to rank 0.
+  vtkUnstructuredGrid* LocalBodies(
+    vtkUnstructuredGrid* piece, vtkMultiProcessController* controller, bool together);
 
   /// Bodies found and dealt at the last redistribution (the same on every rank).
   int GetNumberOfBodies() const { return this->NumberOfBodies; }
 
+  /// Whether the last LocalBodies() call redistributed (every rank answers the same).
+  bool Redistributed() const { return this->LastRedistributed; }
+
 private:
-  void Redistribute(vtkUnstructuredGrid* piece, vtkMultiProcessController* controller);
+  void Redistribute(vtkUnstructuredGrid* piece, vtkMultiProcessController* controller, bool together);
 
   const vtkUnstructuredGrid* Piece = nullptr; // identity only, never dereferenced
   vtkMTimeType PieceMTime = 0;
   vtkSmartPointer<vtkUnstructuredGrid> Local;
   int NumberOfBodies = 0;
+  bool Together = false;
+  bool LastRedistributed = false;
 };
 
 #endif

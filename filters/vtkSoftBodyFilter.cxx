@@ -300,10 +300,14 @@ int vtkSoftBodyFilter::RequestUpdateExtent(
   }
   // A moving obstacle is asked for at the time the simulation needs next (RequestData names it
   // and asks the executive to run again: CONTINUE_EXECUTING), not at the time asked of us;
-  // static ones get no time, so they never re-execute.
+  // static ones get no time, so they never re-execute. Every rank under MPI (and every piece of
+  // a streamed run) meets the whole obstacle, not the piece of it its own number would select.
   for (int c = 0; c < inputVector[2]->GetNumberOfInformationObjects(); ++c)
   {
     vtkInformation* inInfo = inputVector[2]->GetInformationObject(c);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
     if (vtkSoftBodyObstacleInput::IsTemporal(inInfo))
     {
       inInfo->Set(
@@ -384,10 +388,20 @@ int vtkSoftBodyFilter::RequestData(
 
   // Under MPI each rank simulates whole bodies: the pieces are gathered into bodies and the
   // bodies dealt to the ranks (vtkSoftBodyDistribution; every rank takes part). A rank without
-  // a body outputs nothing, quietly.
+  // a body outputs nothing, quietly. Bodies that collide with each other stay on one rank.
   if (vtkMultiProcessController* controller = vtkSoftBodyDistribution::ParallelController())
   {
-    input = this->Internals->Distribution.LocalBodies(input, controller);
+    const bool together = BodiesCollide(settings);
+    vtkSoftBodyDistribution& distribution = this->Internals->Distribution;
+    input = distribution.LocalBodies(input, controller, together);
+    if (together && distribution.Redistributed() && distribution.GetNumberOfBodies() > 1 &&
+      controller->GetLocalProcessId() == 0)
+    {
+      vtkWarningMacro(<< "Collisions include bodies, which must meet each other: all "
+                      << distribution.GetNumberOfBodies() << " bodies are simulated on rank 0 of "
+                      << controller->GetNumberOfProcesses()
+                      << ". Set Collisions to Obstacles to spread them over the ranks.");
+    }
     if (input->GetNumberOfCells() == 0)
     {
       stampTime();
@@ -802,6 +816,15 @@ bool vtkSoftBodyFilter::CollisionsOn(const vtkSoftBodyCoreSettings& settings)
   const softbody::CollisionSettings& collisions =
     settings.Method == MASS_SPRING ? settings.Scene.collisions : settings.Pbd.collisions;
   return collisions.mode != softbody::CollisionMode::Off;
+}
+
+//------------------------------------------------------------------------------
+bool vtkSoftBodyFilter::BodiesCollide(const vtkSoftBodyCoreSettings& settings)
+{
+  const softbody::CollisionMode mode =
+    (settings.Method == MASS_SPRING ? settings.Scene.collisions : settings.Pbd.collisions).mode;
+  return mode == softbody::CollisionMode::ObstaclesAndBodies ||
+    mode == softbody::CollisionMode::ObstaclesBodiesAndSelf;
 }
 
 //------------------------------------------------------------------------------

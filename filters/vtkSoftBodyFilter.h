@@ -468,6 +468,8 @@ private:
     bool withObstacles, vtkInternals& built);
   /// Whether the selected method's Collisions mode is other than Off.
   static bool CollisionsOn(const vtkSoftBodyCoreSettings& settings);
+  /// Whether the selected method's bodies collide with each other (Collisions with Bodies).
+  static bool BodiesCollide(const vtkSoftBodyCoreSettings& settings);
   /// The step the simulation takes: the frame interval split into equal steps no larger than
   /// its step size (what the last advance used; before any, what the frames will use).
   double StepUsed() const;

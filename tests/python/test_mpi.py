@@ -6,7 +6,14 @@ under `mpirun -np 2 pvbatch --ranks`, where the reader's pieces go through Redis
 which cuts the middle body across the two ranks, into Soft Body. The distributed run must give every
 point the serial position (matched by OriginalId; equal up to rounding, since the gathered
 body's points are in another order, which changes the order of floating-point sums), the same
-total mass, each body simulated whole on one rank, and both ranks busy.
+total mass, and each body simulated whole on one rank. Three scenes:
+
+- plain: the floor only; both ranks busy;
+- obstacle: the bodies fall onto a large Sphere (Collisions = Obstacles) whose pieces the
+  source would split over the ranks (it splits by longitude): every rank must meet the whole
+  sphere; both ranks busy, and the sphere changes where the bodies end;
+- bodies: the same with Collisions = Obstacles + Bodies: bodies on different ranks could not
+  meet, so all of them are simulated on rank 0 (with a warning saying so).
 """
 
 import json
@@ -56,6 +63,25 @@ def write(grid, path):
     writer.Write()
 
 
+SCENES = ("plain", "obstacle", "bodies")
+
+
+def sphere_under_bodies(bounds):
+    """A sphere of radius 1 m whose top is 0.1 m under the middle of the row of bodies: the
+    middle body lands on its top, the outer ones on its flanks (other longitudes)."""
+    centre_x = 0.5 * (bounds[0] + bounds[1])
+    return Sphere(Radius=1.0, Center=[centre_x, 0.0, bounds[4] - 0.1 - 1.0], ThetaResolution=64,
+                  PhiResolution=32)
+
+
+def soft_body(scene, source, bounds):
+    if scene == "plain":
+        return SoftBody(Input=source, EndTime=END_TIME)
+    collisions = "Obstacles" if scene == "obstacle" else "Obstacles + Bodies"
+    return SoftBody(Input=source, Obstacles=[sphere_under_bodies(bounds)], Collisions=collisions,
+                    EndTime=END_TIME)
+
+
 def run_ranks():
     # The pvbatch side: rank 0 runs this script; the pipeline runs on both ranks, and the
     # writers write one piece per rank (what each rank simulated, with its ProcessId).
@@ -63,11 +89,63 @@ def run_ranks():
     reader = XMLUnstructuredGridReader(FileName=[args.input])
     pieces = RedistributeDataSet(Input=reader)
     pieces.UpdatePipeline()
-    body = SoftBody(Input=pieces, EndTime=END_TIME)
-    CreateWriter(os.path.join(args.out, "mesh.pvtu"), ProcessIdScalars(Input=body)).UpdatePipeline(END_TIME)
-    CreateWriter(os.path.join(args.out, "particles.pvtp"), OutputPort(body, 1)).UpdatePipeline(END_TIME)
+    bounds = reader.GetDataInformation().GetBounds()
+    for scene in SCENES:
+        body = soft_body(scene, pieces, bounds)
+        folder = os.path.join(args.out, scene)
+        os.makedirs(folder, exist_ok=True)
+        CreateWriter(os.path.join(folder, "mesh.pvtu"), ProcessIdScalars(Input=body)).UpdatePipeline(END_TIME)
+        CreateWriter(os.path.join(folder, "particles.pvtp"), OutputPort(body, 1)).UpdatePipeline(END_TIME)
+        Delete(body)
     with open(os.path.join(args.out, "run.json"), "w") as info:
         json.dump({"ranks": ranks, "points_over_pieces": pieces.GetDataInformation().GetNumberOfPoints()}, info)
+
+
+def compare_scene(scene, serial, rest, folder):
+    """Checks one scene's ranks result against its serial one; returns the serial final points
+    in OriginalId order."""
+    serial_mass = sbt.field_value(serial, "TotalMass")
+    reader = vtkXMLPUnstructuredGridReader()
+    reader.SetFileName(os.path.join(folder, "mesh.pvtu"))
+    reader.Update()
+    ranks_mesh = reader.GetOutput()
+
+    # Every point once, at the serial position.
+    serial_ids = sbt.point_array(serial, "OriginalId").astype(np.int64)
+    ranks_ids = sbt.point_array(ranks_mesh, "OriginalId").astype(np.int64)
+    sbt.check(sorted(ranks_ids.tolist()) == sorted(serial_ids.tolist()),
+              f"{scene}: each of the {len(serial_ids)} points is output exactly once over the ranks "
+              f"(got {len(ranks_ids)} points)")
+    serial_x = sbt.points_of(serial)[np.argsort(serial_ids)]
+    ranks_x = sbt.points_of(ranks_mesh)[np.argsort(ranks_ids)]
+    size = np.ptp(sbt.points_of(serial), axis=0).max()
+    moved = np.abs(serial_x - sbt.points_of(rest)).max()
+    difference = np.abs(serial_x - ranks_x).max()
+    print(f"{scene}: body size {size:.3f} m, largest fall {moved:.4f} m, "
+          f"largest serial/ranks difference {difference:.3g} m")
+    sbt.check(moved > 0.01, f"{scene}: the bodies moved (the comparison is not of rest states)")
+    sbt.check(difference <= 1e-9 * size,
+              f"{scene}: every point ends where the serial run puts it (difference {difference:.3g} m)")
+
+    # Whole bodies: all points of a body on one rank; both ranks busy unless the bodies collide.
+    rank = sbt.point_array(ranks_mesh, "ProcessId")[np.argsort(ranks_ids)]
+    per_body = len(serial_ids) // BODIES
+    body_ranks = [set(rank[k * per_body:(k + 1) * per_body].tolist()) for k in range(BODIES)]
+    print(f"{scene}: ranks of the bodies: {body_ranks}")
+    sbt.check(all(len(r) == 1 for r in body_ranks), f"{scene}: each body is simulated whole on one rank")
+    if scene == "bodies":
+        sbt.check(set().union(*body_ranks) == {0}, f"{scene}: bodies that collide are all on rank 0")
+    else:
+        sbt.check(set().union(*body_ranks) == {0, 1}, f"{scene}: both ranks simulate bodies")
+
+    particles = vtkXMLPPolyDataReader()
+    particles.SetFileName(os.path.join(folder, "particles.pvtp"))
+    particles.Update()
+    inverse = sbt.point_array(particles.GetOutput(), "InverseMass")
+    ranks_mass = float(np.sum(1.0 / inverse[inverse > 0]))
+    sbt.check(abs(ranks_mass - serial_mass) <= 1e-9 * serial_mass,
+              f"{scene}: total mass over the ranks {ranks_mass:.6g} kg equals the serial {serial_mass:.6g} kg")
+    return serial_x
 
 
 def run_serial_and_compare():
@@ -103,10 +181,15 @@ def run_serial_and_compare():
         two_bodies = os.path.join(work, "two_bodies.vtu")
         write(both, two_bodies)
 
-        # Serial reference, in this process.
-        serial_body = SoftBody(Input=XMLUnstructuredGridReader(FileName=[two_bodies]), EndTime=END_TIME)
-        serial = fetch_mesh(serial_body)
-        serial_mass = sbt.field_value(serial, "TotalMass")
+        # Serial references, in this process.
+        serial_reader = XMLUnstructuredGridReader(FileName=[two_bodies])
+        serial_reader.UpdatePipeline()
+        bounds = serial_reader.GetDataInformation().GetBounds()
+        serial = {}
+        for scene in SCENES:
+            body = soft_body(scene, serial_reader, bounds)
+            serial[scene] = fetch_mesh(body)
+            Delete(body)
 
         # The same under MPI.
         result = os.path.join(work, "ranks")
@@ -124,49 +207,21 @@ def run_serial_and_compare():
                              text=True, timeout=240)
         print(run.stdout)
         sbt.check(run.returncode == 0, f"mpirun -np 2 pvbatch exited with {run.returncode}")
-        reader = vtkXMLPUnstructuredGridReader()
-        reader.SetFileName(os.path.join(result, "mesh.pvtu"))
-        reader.Update()
-        ranks_mesh = reader.GetOutput()
         with open(os.path.join(result, "run.json")) as info_file:
             info = json.load(info_file)
         sbt.check(info["ranks"] == 2, f"the pvbatch side ran on 2 ranks (got {info['ranks']})")
-
-        # Every point once, at the serial position.
-        serial_ids = sbt.point_array(serial, "OriginalId").astype(np.int64)
-        ranks_ids = sbt.point_array(ranks_mesh, "OriginalId").astype(np.int64)
-        sbt.check(sorted(ranks_ids.tolist()) == sorted(serial_ids.tolist()),
-                  f"each of the {len(serial_ids)} points is output exactly once over the ranks "
-                  f"(got {len(ranks_ids)} points)")
-        serial_x = sbt.points_of(serial)[np.argsort(serial_ids)]
-        ranks_x = sbt.points_of(ranks_mesh)[np.argsort(ranks_ids)]
-        size = np.ptp(sbt.points_of(serial), axis=0).max()
-        moved = np.abs(serial_x - sbt.points_of(both)).max()
-        difference = np.abs(serial_x - ranks_x).max()
-        print(f"body size {size:.3f} m, largest fall {moved:.4f} m, "
-              f"largest serial/ranks difference {difference:.3g} m")
-        sbt.check(moved > 0.01, "the bodies moved (the comparison is not of rest states)")
-        sbt.check(difference <= 1e-9 * size,
-                  f"every point ends where the serial run puts it (difference {difference:.3g} m)")
-
-        # Whole bodies: all points of a body on one rank, and both ranks busy.
-        rank = sbt.point_array(ranks_mesh, "ProcessId")[np.argsort(ranks_ids)]
-        per_body = len(serial_ids) // BODIES
-        body_ranks = [set(rank[k * per_body:(k + 1) * per_body].tolist()) for k in range(BODIES)]
-        print(f"ranks of the bodies: {body_ranks}")
-        sbt.check(all(len(r) == 1 for r in body_ranks), "each body is simulated whole on one rank")
-        sbt.check(set().union(*body_ranks) == {0, 1}, "both ranks simulate bodies")
-        sbt.check(info["points_over_pieces"] > len(serial_ids),
+        sbt.check(info["points_over_pieces"] > both.GetNumberOfPoints(),
                   f"RedistributeDataSet really cut the bodies ({info['points_over_pieces']} points over the pieces "
-                  f"for {len(serial_ids)}: interface points are in both)")
+                  f"for {both.GetNumberOfPoints()}: interface points are in both)")
+        sbt.check("all 3 bodies are simulated on rank 0 of 2" in run.stdout,
+                  "the bodies scene says that its colliding bodies stay on rank 0")
 
-        particles = vtkXMLPPolyDataReader()
-        particles.SetFileName(os.path.join(result, "particles.pvtp"))
-        particles.Update()
-        inverse = sbt.point_array(particles.GetOutput(), "InverseMass")
-        ranks_mass = float(np.sum(1.0 / inverse[inverse > 0]))
-        sbt.check(abs(ranks_mass - serial_mass) <= 1e-9 * serial_mass,
-                  f"total mass over the ranks {ranks_mass:.6g} kg equals the serial {serial_mass:.6g} kg")
+        final = {}
+        for scene in SCENES:
+            final[scene] = compare_scene(scene, serial[scene], both, os.path.join(result, scene))
+        obstacle_effect = np.abs(final["obstacle"] - final["plain"]).max()
+        print(f"the sphere moves the bodies' final points by up to {obstacle_effect:.3f} m")
+        sbt.check(obstacle_effect > 0.05, "the bodies land on the sphere (the obstacle scene is not the plain one)")
     finally:
             shutil.rmtree(work, ignore_errors=True)
     print("python.mpi passed")
