@@ -52,17 +52,6 @@ using namespace softbody;
 namespace
 {
 
-template <typename T>
-void permute(std::vector<T>& v, const std::vector<std::int32_t>& order)
-{
-  std::vector<T> sorted(order.size());
-  for (std::size_t s = 0; s < order.size(); ++s)
-  {
-    sorted[s] = v[static_cast<std::size_t>(order[s])];
-  }
-  v = std::move(sorted);
-}
-
 struct Body
 {
   std::vector<Vec3> x;
@@ -112,28 +101,14 @@ Body makeBody(const std::vector<Vec3>& points, const Topology& topology)
   body.volumes.params.assign(body.volumes.tets.size(), p);
   body.sequentialLinks = body.links;
   body.sequentialVolumes = body.volumes;
-  const std::vector<std::int32_t> linkStreams = interleavedStreams(body.links.size());
-  const std::vector<std::int32_t> tetStreams = interleavedStreams(body.volumes.size());
-  permute(body.sequentialLinks.ends, linkStreams);
-  permute(body.sequentialLinks.rest, linkStreams);
-  permute(body.sequentialVolumes.tets, tetStreams);
-  permute(body.sequentialVolumes.restVolume, tetStreams);
+  body.sequentialLinks.storeInOrder(interleavedStreams(body.links.size()));
+  body.sequentialVolumes.storeInOrder(interleavedStreams(body.volumes.size()));
   body.linkBlocks = independentBlocks(body.sequentialLinks);
   body.volumeBlocks = independentBlocks(body.sequentialVolumes);
   const std::vector<char> movable(points.size(), 1);
   auto store = [&](auto& batch, BatchSchedule& schedule) {
     schedule.coloring = colorConstraints(points.size(), flattenParticles(batch), std::decay_t<decltype(batch)>::Arity, movable);
-    const auto& order = schedule.coloring.order;
-    if constexpr (std::is_same_v<std::decay_t<decltype(batch)>, DistanceBatch>)
-    {
-      permute(batch.ends, order);
-      permute(batch.rest, order);
-    }
-    else
-    {
-      permute(batch.tets, order);
-      permute(batch.restVolume, order);
-    }
+    batch.storeInOrder(schedule.coloring.order);
     std::iota(schedule.coloring.order.begin(), schedule.coloring.order.end(), 0);
   };
   store(body.links, body.linkSchedule);

@@ -39,17 +39,6 @@ bool bitwiseEqual(const std::vector<double>& a, const std::vector<double>& b)
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
-template <typename T>
-void permute(std::vector<T>& v, const std::vector<std::int32_t>& order)
-{
-  std::vector<T> sorted(order.size());
-  for (std::size_t s = 0; s < order.size(); ++s)
-  {
-    sorted[s] = v[static_cast<std::size_t>(order[s])];
-  }
-  v = std::move(sorted);
-}
-
 /// A jittered box with both batches stored color by color, as the parallel solver stores them.
 /// The origin is off zero so no coordinate is exactly zero.
 struct ColoredBody
@@ -75,20 +64,7 @@ BatchSchedule storeByColor(Batch& batch, std::size_t particleCount, const std::v
 {
   BatchSchedule schedule;
   schedule.coloring = colorConstraints(particleCount, flattenParticles(batch), Batch::Arity, movable);
-  const std::vector<std::int32_t>& order = schedule.coloring.order;
-  if constexpr (std::is_same_v<Batch, DistanceBatch>)
-  {
-    permute(batch.ends, order);
-    permute(batch.rest, order);
-  }
-  else
-  {
-    permute(batch.tets, order);
-    permute(batch.restVolume, order);
-  }
-  permute(batch.broken, order);
-  permute(batch.lambda, order);
-  permute(batch.params, order);
+  batch.storeInOrder(schedule.coloring.order);
   std::iota(schedule.coloring.order.begin(), schedule.coloring.order.end(), 0);
   schedule.storedByColor = true;
   return schedule;
@@ -211,20 +187,7 @@ void expectSequentialWideEqualsScalar(DistanceKind kind, bool streams)
     {
       return;
     }
-    const std::vector<std::int32_t> order = interleavedStreams(batch.size());
-    if constexpr (std::is_same_v<std::decay_t<decltype(batch)>, DistanceBatch>)
-    {
-      permute(batch.ends, order);
-      permute(batch.rest, order);
-    }
-    else
-    {
-      permute(batch.tets, order);
-      permute(batch.restVolume, order);
-    }
-    permute(batch.broken, order);
-    permute(batch.lambda, order);
-    permute(batch.params, order);
+    batch.storeInOrder(interleavedStreams(batch.size()));
   };
   reorder(body.links);
   reorder(body.volumes);

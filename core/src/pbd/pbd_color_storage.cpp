@@ -15,22 +15,6 @@ namespace softbody
 
 namespace
 {
-/// v[s] = old v[order[s]]: stores a batch array in the given order.
-template <typename T>
-void permute(std::vector<T>& v, const std::vector<std::int32_t>& order)
-{
-  if (v.empty())
-  {
-    return;
-  }
-  std::vector<T> sorted(order.size());
-  for (std::size_t s = 0; s < order.size(); ++s)
-  {
-    sorted[s] = v[static_cast<std::size_t>(order[s])];
-  }
-  v = std::move(sorted);
-}
-
 /// The inverse of an order: slot[original] = storage index.
 std::vector<std::int32_t> slotsOf(const std::vector<std::int32_t>& order)
 {
@@ -60,13 +44,7 @@ void composeSlots(std::vector<std::int32_t>& slot, const std::vector<std::int32_
 
 void PbdSimulation::storeLinksInOrder(const std::vector<std::int32_t>& order)
 {
-  permute(Links.ends, order);
-  permute(Links.originalRest, order);
-  permute(Links.rest, order);
-  permute(Links.stiffnessScale, order);
-  permute(Links.compliance, order);
-  permute(Links.broken, order);
-  permute(Links.lambda, order);
+  Links.storeInOrder(order);
   composeSlots(LinkSlot, order);
   // TetEdges items name links by storage index.
   const std::vector<std::int32_t> moved = slotsOf(order);
@@ -78,11 +56,7 @@ void PbdSimulation::storeLinksInOrder(const std::vector<std::int32_t>& order)
 
 void PbdSimulation::storeVolumesInOrder(const std::vector<std::int32_t>& order)
 {
-  permute(Volumes.tets, order);
-  permute(Volumes.restVolume, order);
-  permute(Volumes.compliance, order);
-  permute(Volumes.broken, order);
-  permute(Volumes.lambda, order);
+  Volumes.storeInOrder(order);
   composeSlots(VolumeSlot, order);
   if (TetEdges.rowCount() > 0)
   {

@@ -8,6 +8,7 @@
 //   lambda[c], params[c]       Lagrange multiplier (reset each step) and per-step constants
 #pragma once
 
+#include "softbody/common/permutation.h"
 #include "softbody/pbd/pbd_kernels.h"
 
 #include <array>
@@ -40,6 +41,18 @@ struct DistanceBatch
     const auto& e = ends[c];
     return projectDistance(x[e[0]], x[e[1]], w[e[0]], w[e[1]], rest[c], kind, lambda[c], params[c]);
   }
+  /// Every per-link array stored in `order` (link s is the old link order[s]).
+  void storeInOrder(const std::vector<std::int32_t>& order)
+  {
+    softbody::storeInOrder(ends, order);
+    softbody::storeInOrder(originalRest, order);
+    softbody::storeInOrder(rest, order);
+    softbody::storeInOrder(stiffnessScale, order);
+    softbody::storeInOrder(compliance, order);
+    softbody::storeInOrder(broken, order);
+    softbody::storeInOrder(lambda, order);
+    softbody::storeInOrder(params, order);
+  }
 };
 
 /// Tet volumes toward their rest volumes.
@@ -61,6 +74,16 @@ struct VolumeBatch
     const Tet& t = tets[c];
     return projectTetVolume({ x[t[0]], x[t[1]], x[t[2]], x[t[3]] },
       { w[t[0]], w[t[1]], w[t[2]], w[t[3]] }, restVolume[c], lambda[c], params[c]);
+  }
+  /// Every per-tet array stored in `order` (tet s is the old tet order[s]).
+  void storeInOrder(const std::vector<std::int32_t>& order)
+  {
+    softbody::storeInOrder(tets, order);
+    softbody::storeInOrder(restVolume, order);
+    softbody::storeInOrder(compliance, order);
+    softbody::storeInOrder(broken, order);
+    softbody::storeInOrder(lambda, order);
+    softbody::storeInOrder(params, order);
   }
 };
 
