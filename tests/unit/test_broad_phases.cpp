@@ -74,6 +74,27 @@ std::vector<std::pair<int, int>> pairsFound(std::size_t n, const Query& query)
   return pairs;
 }
 
+/// The grid's pairs from its half stencil (each must come exactly once: no dedup here), with
+/// the exact distance test the detector's narrow phase applies.
+std::vector<std::pair<int, int>> gridPairs(const UniformGrid& grid, const std::vector<Vec3>& x,
+  const std::vector<double>& reach)
+{
+  std::vector<std::pair<int, int>> pairs;
+  for (std::size_t s = 0; s < grid.entryCount(); ++s)
+  {
+    grid.forEachPairFrom(s, [&](std::int32_t a, std::int32_t b) {
+      EXPECT_LT(a, b);
+      const double within = reach[static_cast<std::size_t>(a)] + reach[static_cast<std::size_t>(b)];
+      if ((x[static_cast<std::size_t>(a)] - x[static_cast<std::size_t>(b)]).squaredNorm() <= within * within)
+      {
+        pairs.emplace_back(a, b);
+      }
+    });
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
 std::vector<std::pair<int, int>> truePairs(const std::vector<Vec3>& x, const std::vector<double>& reach)
 {
   std::vector<std::pair<int, int>> pairs;
@@ -173,6 +194,7 @@ TEST(BroadPhaseStructures, FindExactlyThePairsWithinReachEachOnce)
       UniformGrid grid;
       grid.build(x, reach, 2.0 * *std::max_element(reach.begin(), reach.end()));
       EXPECT_TRUE(grid.dense());
+      EXPECT_EQ(gridPairs(grid, x, reach), expected);
       EXPECT_EQ(pairsFound(x.size(), [&](std::size_t i, auto visit) {
         grid.forEachNear(x[i], reach[i], -1, [&](std::int32_t j) {
           const double within = reach[i] + reach[static_cast<std::size_t>(j)];
@@ -242,6 +264,7 @@ TEST(BroadPhaseStructures, HashedGridForSparsePointsFindsThePairsToo)
   EXPECT_FALSE(grid.dense());
   const auto expected = truePairs(x, reach);
   ASSERT_GT(expected.size(), 50u);
+  EXPECT_EQ(gridPairs(grid, x, reach), expected);
   EXPECT_EQ(pairsFound(x.size(), [&](std::size_t i, auto visit) {
     grid.forEachNear(x[i], reach[i], static_cast<std::int32_t>(i), [&](std::int32_t j) {
       const double within = reach[i] + reach[static_cast<std::size_t>(j)];
@@ -267,6 +290,7 @@ TEST(BroadPhaseStructures, HashedGridForSparsePointsFindsThePairsToo)
       }
     });
   }), truePairs(few, fewReach));
+  EXPECT_EQ(gridPairs(grid, few, fewReach), truePairs(few, fewReach));
 }
 
 TEST(BroadPhases, SameContactSetAsBruteForceOnRandomScenes)

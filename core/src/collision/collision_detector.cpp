@@ -373,6 +373,48 @@ void CollisionDetector::prepareBroadPhase(BroadPhase kind, const std::vector<Vec
     // Cells at least twice the largest reach: every pair within reach is in neighbouring cells.
     // (Not zero when nothing has a reach: coincident points still share a cell.)
     Grid.build(CollidingPositions, CollidingReach, largest > 0.0 ? 2.0 * largest : 1.0);
+    collectGridPairs();
+  }
+}
+
+void CollisionDetector::collectGridPairs()
+{
+  // Fixed blocks of entries, each with its own list: the concatenation is the same at any
+  // thread count. Then a stable counting sort by the smaller point: each point's partners in
+  // discovery order (the candidates are sorted per point afterwards anyway).
+  constexpr std::size_t kBlock = 1024;
+  const std::size_t entries = Grid.entryCount();
+  const std::size_t blocks = (entries + kBlock - 1) / kBlock;
+  BlockPairs.resize(blocks);
+  parallelFor(blocks, 1, [&](std::size_t b) {
+    std::vector<std::array<std::int32_t, 2>>& pairs = BlockPairs[b];
+    pairs.clear();
+    const std::size_t end = std::min(entries, (b + 1) * kBlock);
+    for (std::size_t s = b * kBlock; s < end; ++s)
+    {
+      Grid.forEachPairFrom(s, [&](std::int32_t first, std::int32_t second) { pairs.push_back({ first, second }); });
+    }
+  });
+  PartnerStart.assign(Colliding.size() + 1, 0);
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    for (const auto& pair : BlockPairs[b])
+    {
+      ++PartnerStart[static_cast<std::size_t>(pair[0]) + 1];
+    }
+  }
+  for (std::size_t k = 0; k < Colliding.size(); ++k)
+  {
+    PartnerStart[k + 1] += PartnerStart[k];
+  }
+  Partners.resize(static_cast<std::size_t>(PartnerStart.back()));
+  std::vector<std::int32_t> next(PartnerStart.begin(), PartnerStart.end() - 1);
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    for (const auto& pair : BlockPairs[b])
+    {
+      Partners[static_cast<std::size_t>(next[static_cast<std::size_t>(pair[0])]++)] = pair[1];
+    }
   }
 }
 
@@ -413,7 +455,10 @@ void CollisionDetector::collectAccelerated(BroadPhase kind, std::size_t collidin
   }
   else
   {
-    Grid.forEachNear(x, CollidingReach[colliding], self, visit);
+    for (std::int32_t k = PartnerStart[colliding]; k < PartnerStart[colliding + 1]; ++k)
+    {
+      visit(Partners[static_cast<std::size_t>(k)]);
+    }
   }
 }
 

@@ -107,6 +107,12 @@ private:
   PointOctree Octree;
   std::vector<Vec3> CollidingPositions;   ///< predicted positions of Colliding
   std::vector<double> CollidingReach;     ///< r + displacement + margin / 2: pairs within the sum
+  // Uniform grid: its pairs of colliding points (indices into Colliding), found once each by
+  // the grid's half stencil and listed at the smaller index, as the per-point queries did.
+  void collectGridPairs();
+  std::vector<std::vector<std::array<std::int32_t, 2>>> BlockPairs; ///< per block of grid entries
+  std::vector<std::int32_t> PartnerStart; ///< point k's partners: Partners[PartnerStart[k] .. [k+1])
+  std::vector<std::int32_t> Partners;
   TriangleBvh SurfaceBvh;
   TriangleBvh ObstacleBvh;
   bool SurfaceBvhBuilt = false;

@@ -15,6 +15,7 @@
 
 #include "softbody/common/geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -40,6 +41,16 @@ public:
   /// the caller's exact test decides.
   template <typename Visit>
   void forEachNear(const Vec3& p, double reach, std::int32_t after, const Visit& visit) const;
+
+  /// Every pair of items within reach_i + reach_j, each exactly once over all sorted entries
+  /// 0..entryCount()-1: entry s calls visitPair(a, b), a < b, for the pairs it owns. A few
+  /// farther pairs may come too (reaches in single precision, rounded up). Dense layout: a half
+  /// stencil - the rest of the entry's own cell and the 13 neighbour cells after it in the
+  /// sorted order (4.5 runs instead of 9, and no index test); the other 13 find the pair from
+  /// their side. Hashed layout: forEachNear with the entry's item as `after`.
+  std::size_t entryCount() const { return Entries.size(); }
+  template <typename VisitPair>
+  void forEachPairFrom(std::size_t entry, const VisitPair& visitPair) const;
 
   bool dense() const { return Dense; }
 
@@ -182,6 +193,53 @@ void UniformGrid::forEachNear(const Vec3& p, double reach, std::int32_t after, c
   else
   {
     scanHashed(ix, iy, iz, scan);
+  }
+}
+
+template <typename VisitPair>
+void UniformGrid::forEachPairFrom(std::size_t entry, const VisitPair& visitPair) const
+{
+  const Entry& self = Entries[entry];
+  const double reach = static_cast<double>(self.reach);
+  if (!Dense)
+  {
+    forEachNear(self.position, reach, self.item, [&](std::int32_t other) { visitPair(self.item, other); });
+    return;
+  }
+  auto scan = [&](std::uint32_t s, std::uint32_t e) {
+    for (; s < e; ++s)
+    {
+      const Entry& other = Entries[s];
+      const double within = reach + static_cast<double>(other.reach);
+      if ((other.position - self.position).squaredNorm() <= within * within)
+      {
+        visitPair(std::min(self.item, other.item), std::max(self.item, other.item));
+      }
+    }
+  };
+  // The same cell the build computed (same position, same scale), in box coordinates.
+  const std::int64_t x = cellOf(self.position.x()) - Origin[0];
+  const std::int64_t y = cellOf(self.position.y()) - Origin[1];
+  const std::int64_t z = cellOf(self.position.z()) - Origin[2];
+  const std::int64_t x0 = std::max<std::int64_t>(x - 1, 0);
+  const std::int64_t x1 = std::min<std::int64_t>(x + 1, Cells[0] - 1);
+  auto rowStart = [&](std::int64_t zz, std::int64_t yy) {
+    return static_cast<std::uint64_t>((zz * Cells[1] + yy) * Cells[0]);
+  };
+  // Own row: after this entry, through the next cell.
+  scan(static_cast<std::uint32_t>(entry) + 1, BucketStart[rowStart(z, y) + static_cast<std::uint64_t>(x1) + 1]);
+  // The next row of this layer, and the three rows of the next layer: whole runs of 3 cells.
+  auto scanRow = [&](std::int64_t zz, std::int64_t yy) {
+    if (zz < Cells[2] && yy >= 0 && yy < Cells[1])
+    {
+      const std::uint64_t row = rowStart(zz, yy);
+      scan(BucketStart[row + static_cast<std::uint64_t>(x0)], BucketStart[row + static_cast<std::uint64_t>(x1) + 1]);
+    }
+  };
+  scanRow(z, y + 1);
+  for (std::int64_t dy = -1; dy <= 1; ++dy)
+  {
+    scanRow(z + 1, y + dy);
   }
 }
 
