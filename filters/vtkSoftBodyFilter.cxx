@@ -298,6 +298,15 @@ int vtkSoftBodyFilter::RequestUpdateExtent(
       inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
     }
   }
+  // Under MPI the Surface is skinned whole on rank 0, which then simulates every body
+  // (RequestData): every rank asks for all of it, not the piece its number would select.
+  vtkInformation* surfaceInfo = inputVector[1]->GetInformationObject(0);
+  if (surfaceInfo && vtkSoftBodyDistribution::ParallelController())
+  {
+    surfaceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    surfaceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    surfaceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
   // A moving obstacle is asked for at the time the simulation needs next (RequestData names it
   // and asks the executive to run again: CONTINUE_EXECUTING), not at the time asked of us;
   // static ones get no time, so they never re-execute. Every rank under MPI (and every piece of
@@ -391,16 +400,22 @@ int vtkSoftBodyFilter::RequestData(
   // a body outputs nothing, quietly. Bodies that collide with each other stay on one rank.
   if (vtkMultiProcessController* controller = vtkSoftBodyDistribution::ParallelController())
   {
-    const bool together = BodiesCollide(settings);
+    // Bodies that meet each other, or a Surface skinned onto them (rank 0 takes the whole
+    // Surface, RequestUpdateExtent, and binds it to every body as the serial run does).
+    const bool bodiesCollide = BodiesCollide(settings);
+    const bool surfaceConnected = inputVector[1]->GetNumberOfInformationObjects() > 0;
+    const bool together = bodiesCollide || surfaceConnected;
     vtkSoftBodyDistribution& distribution = this->Internals->Distribution;
     input = distribution.LocalBodies(input, controller, together);
     if (together && distribution.Redistributed() && distribution.GetNumberOfBodies() > 1 &&
       controller->GetLocalProcessId() == 0)
     {
-      vtkWarningMacro(<< "Collisions include bodies, which must meet each other: all "
-                      << distribution.GetNumberOfBodies() << " bodies are simulated on rank 0 of "
-                      << controller->GetNumberOfProcesses()
-                      << ". Set Collisions to Obstacles to spread them over the ranks.");
+      vtkWarningMacro(<< (bodiesCollide ? "Collisions include bodies, which must meet each other"
+                                        : "A Surface is skinned onto the bodies")
+                      << ": all " << distribution.GetNumberOfBodies()
+                      << " bodies are simulated on rank 0 of " << controller->GetNumberOfProcesses()
+                      << (bodiesCollide ? ". Set Collisions to Obstacles to spread them over the ranks."
+                                        : ". Disconnect the Surface to spread them over the ranks."));
     }
     if (input->GetNumberOfCells() == 0)
     {

@@ -13,7 +13,10 @@ total mass, and each body simulated whole on one rank. Three scenes:
   source would split over the ranks (it splits by longitude): every rank must meet the whole
   sphere; both ranks busy, and the sphere changes where the bodies end;
 - bodies: the same with Collisions = Obstacles + Bodies: bodies on different ranks could not
-  meet, so all of them are simulated on rank 0 (with a warning saying so).
+  meet, so all of them are simulated on rank 0 (with a warning saying so);
+- surface: the floor only, with the bodies' outer surface (Extract Surface of the reader) as
+  the Surface input: rank 0 takes the whole Surface and every body, and the skinned Surface
+  output must equal the serial one.
 """
 
 import json
@@ -63,7 +66,7 @@ def write(grid, path):
     writer.Write()
 
 
-SCENES = ("plain", "obstacle", "bodies")
+SCENES = ("plain", "obstacle", "bodies", "surface")
 
 
 def sphere_under_bodies(bounds):
@@ -74,9 +77,12 @@ def sphere_under_bodies(bounds):
                   PhiResolution=32)
 
 
-def soft_body(scene, source, bounds):
+def soft_body(scene, source, bounds, reader):
     if scene == "plain":
         return SoftBody(Input=source, EndTime=END_TIME)
+    if scene == "surface":
+        # From the reader, not from the redistributed pieces (whose surfaces include the cuts).
+        return SoftBody(Input=source, Surface=ExtractSurface(Input=reader), EndTime=END_TIME)
     collisions = "Obstacles" if scene == "obstacle" else "Obstacles + Bodies"
     return SoftBody(Input=source, Obstacles=[sphere_under_bodies(bounds)], Collisions=collisions,
                     EndTime=END_TIME)
@@ -91,11 +97,13 @@ def run_ranks():
     pieces.UpdatePipeline()
     bounds = reader.GetDataInformation().GetBounds()
     for scene in SCENES:
-        body = soft_body(scene, pieces, bounds)
+        body = soft_body(scene, pieces, bounds, reader)
         folder = os.path.join(args.out, scene)
         os.makedirs(folder, exist_ok=True)
         CreateWriter(os.path.join(folder, "mesh.pvtu"), ProcessIdScalars(Input=body)).UpdatePipeline(END_TIME)
         CreateWriter(os.path.join(folder, "particles.pvtp"), OutputPort(body, 1)).UpdatePipeline(END_TIME)
+        if scene == "surface":
+            CreateWriter(os.path.join(folder, "surface.pvtp"), OutputPort(body, 3)).UpdatePipeline(END_TIME)
         Delete(body)
     with open(os.path.join(args.out, "run.json"), "w") as info:
         json.dump({"ranks": ranks, "points_over_pieces": pieces.GetDataInformation().GetNumberOfPoints()}, info)
@@ -133,8 +141,8 @@ def compare_scene(scene, serial, rest, folder):
     body_ranks = [set(rank[k * per_body:(k + 1) * per_body].tolist()) for k in range(BODIES)]
     print(f"{scene}: ranks of the bodies: {body_ranks}")
     sbt.check(all(len(r) == 1 for r in body_ranks), f"{scene}: each body is simulated whole on one rank")
-    if scene == "bodies":
-        sbt.check(set().union(*body_ranks) == {0}, f"{scene}: bodies that collide are all on rank 0")
+    if scene in ("bodies", "surface"):
+        sbt.check(set().union(*body_ranks) == {0}, f"{scene}: the bodies are all on rank 0")
     else:
         sbt.check(set().union(*body_ranks) == {0, 1}, f"{scene}: both ranks simulate bodies")
 
@@ -146,6 +154,34 @@ def compare_scene(scene, serial, rest, folder):
     sbt.check(abs(ranks_mass - serial_mass) <= 1e-9 * serial_mass,
               f"{scene}: total mass over the ranks {ranks_mass:.6g} kg equals the serial {serial_mass:.6g} kg")
     return serial_x
+
+
+def compare_surface(serial, folder):
+    """The skinned Surface output of the ranks (all on rank 0) against the serial one, point by
+    point through the OriginalId the surface carries from the reader."""
+    reader = vtkXMLPPolyDataReader()
+    reader.SetFileName(os.path.join(folder, "surface.pvtp"))
+    reader.Update()
+    ranks = reader.GetOutput()
+
+    def used(surface):
+        """OriginalId and position of the points the surface's polygons use (Extract Surface
+        keeps the unused interior points in one process and drops them in pvbatch)."""
+        connectivity = numpy_support.vtk_to_numpy(surface.GetPolys().GetConnectivityArray())
+        points = np.unique(connectivity)
+        ids = sbt.point_array(surface, "OriginalId").astype(np.int64)[points]
+        order = np.argsort(ids)
+        return ids[order], sbt.points_of(surface)[points][order]
+
+    serial_ids, serial_x = used(serial)
+    ranks_ids, ranks_x = used(ranks)
+    sbt.check(len(serial_ids) > 0 and np.array_equal(ranks_ids, serial_ids),
+              f"surface: the {len(serial_ids)} skinned vertices are output once over the ranks "
+              f"(got {len(ranks_ids)})")
+    size = np.ptp(serial_x, axis=0).max()
+    difference = np.abs(serial_x - ranks_x).max()
+    print(f"surface: {len(serial_ids)} skinned vertices, largest serial/ranks difference {difference:.3g} m")
+    sbt.check(difference <= 1e-9 * size, f"surface: the skinned Surface equals the serial one ({difference:.3g} m)")
 
 
 def run_serial_and_compare():
@@ -187,8 +223,10 @@ def run_serial_and_compare():
         bounds = serial_reader.GetDataInformation().GetBounds()
         serial = {}
         for scene in SCENES:
-            body = soft_body(scene, serial_reader, bounds)
+            body = soft_body(scene, serial_reader, bounds, serial_reader)
             serial[scene] = fetch_mesh(body)
+            if scene == "surface":
+                serial_surface = servermanager.Fetch(body, idx=3)
             Delete(body)
 
         # The same under MPI.
@@ -213,12 +251,15 @@ def run_serial_and_compare():
         sbt.check(info["points_over_pieces"] > both.GetNumberOfPoints(),
                   f"RedistributeDataSet really cut the bodies ({info['points_over_pieces']} points over the pieces "
                   f"for {both.GetNumberOfPoints()}: interface points are in both)")
-        sbt.check("all 3 bodies are simulated on rank 0 of 2" in run.stdout,
+        sbt.check("must meet each other: all 3 bodies are simulated on rank 0 of 2" in run.stdout,
                   "the bodies scene says that its colliding bodies stay on rank 0")
+        sbt.check("Surface is skinned onto the bodies: all 3 bodies are simulated on rank 0 of 2" in run.stdout,
+                  "the surface scene says that its skinned bodies stay on rank 0")
 
         final = {}
         for scene in SCENES:
             final[scene] = compare_scene(scene, serial[scene], both, os.path.join(result, scene))
+        compare_surface(serial_surface, os.path.join(result, "surface"))
         obstacle_effect = np.abs(final["obstacle"] - final["plain"]).max()
         print(f"the sphere moves the bodies' final points by up to {obstacle_effect:.3f} m")
         sbt.check(obstacle_effect > 0.05, "the bodies land on the sphere (the obstacle scene is not the plain one)")
