@@ -285,6 +285,19 @@ int vtkSoftBodyFilter::RequestInformation(
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+/// Asks an input for all of its data (piece 0 of 1, no ghosts), whatever piece this process
+/// or this streamed pass is for.
+void RequestWholeData(vtkInformation* inInfo)
+{
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+}
+} // namespace
+
+//------------------------------------------------------------------------------
 int vtkSoftBodyFilter::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
@@ -303,9 +316,7 @@ int vtkSoftBodyFilter::RequestUpdateExtent(
   vtkInformation* surfaceInfo = inputVector[1]->GetInformationObject(0);
   if (surfaceInfo && vtkSoftBodyDistribution::ParallelController())
   {
-    surfaceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-    surfaceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-    surfaceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+    RequestWholeData(surfaceInfo);
   }
   // A moving obstacle is asked for at the time the simulation needs next (RequestData names it
   // and asks the executive to run again: CONTINUE_EXECUTING), not at the time asked of us;
@@ -314,9 +325,7 @@ int vtkSoftBodyFilter::RequestUpdateExtent(
   for (int c = 0; c < inputVector[2]->GetNumberOfInformationObjects(); ++c)
   {
     vtkInformation* inInfo = inputVector[2]->GetInformationObject(c);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+    RequestWholeData(inInfo);
     if (vtkSoftBodyObstacleInput::IsTemporal(inInfo))
     {
       inInfo->Set(
