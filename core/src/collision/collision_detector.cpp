@@ -382,9 +382,12 @@ void CollisionDetector::collectGridPairs()
   // Fixed blocks of entries, each with its own list: the concatenation is the same at any
   // thread count. Then a stable counting sort by the smaller point: each point's partners in
   // discovery order (the candidates are sorted per point afterwards anyway).
+  // Without self collisions, pairs within one body are dropped here rather than one by one in
+  // the narrow phase (touching particles of a body are most of the pairs the grid finds).
   constexpr std::size_t kBlock = 1024;
   const std::size_t entries = Grid.entryCount();
   const std::size_t blocks = (entries + kBlock - 1) / kBlock;
+  const bool keepSameBody = detectsSelf();
   BlockPairs.resize(blocks);
   parallelFor(blocks, 1, [&](std::size_t b) {
     std::vector<std::array<std::int32_t, 2>>& pairs = BlockPairs[b];
@@ -392,7 +395,13 @@ void CollisionDetector::collectGridPairs()
     const std::size_t end = std::min(entries, (b + 1) * kBlock);
     for (std::size_t s = b * kBlock; s < end; ++s)
     {
-      Grid.forEachPairFrom(s, [&](std::int32_t first, std::int32_t second) { pairs.push_back({ first, second }); });
+      Grid.forEachPairFrom(s, [&](std::int32_t first, std::int32_t second) {
+        if (keepSameBody || Geometry.bodyOf[static_cast<std::size_t>(Colliding[static_cast<std::size_t>(first)])] !=
+              Geometry.bodyOf[static_cast<std::size_t>(Colliding[static_cast<std::size_t>(second)])])
+        {
+          pairs.push_back({ first, second });
+        }
+      });
     }
   });
   PartnerStart.assign(Colliding.size() + 1, 0);
