@@ -116,6 +116,16 @@ SOFTBODY_SIMD_INLINE Mask4 negate(Mask4 a)
   return ~a;
 }
 
+/// Whether any lane of a mask is set (one lane: the bool).
+SOFTBODY_SIMD_INLINE bool any(bool mask)
+{
+  return mask;
+}
+SOFTBODY_SIMD_INLINE bool any(Mask4 mask)
+{
+  return (mask[0] | mask[1] | mask[2] | mask[3]) != 0;
+}
+
 /// Lane-wise sqrt. Four scalar square roots (correctly rounded, so equal to one vsqrtpd); the
 /// vector extension has no sqrt and an intrinsic would tie the header to one target.
 SOFTBODY_SIMD_INLINE double sqrt(double v)

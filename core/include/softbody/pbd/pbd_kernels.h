@@ -156,15 +156,19 @@ SOFTBODY_SIMD_INLINE ProjectionLanes<T, 4> tetVolume(const simd::Vec3Lanes<T>& x
                                 w[2] * simd::dot(G[2], G[2])) + w[3] * simd::dot(G[3], G[3]);
   const auto stiff = scale != zero; // zero stiffness asks for nothing
   const T residual = C + alphaTilde * lambda;
-  const T equalityDenominator = weightedGradient2 + broadcast<T>(36.0) * alphaTilde;
-  // The hard inequality where it asks for more than the equality's step (a stiff tet's own step
-  // can): (least - V) / sum w|G|^2 > -residual / equalityDenominator, cross-multiplied (both
-  // denominators positive where anything moves) to keep one division per tet.
+  T demand = -residual;
+  T denominator = weightedGradient2 + broadcast<T>(36.0) * alphaTilde;
   const T shortfall = broadcast<T>(kLeastVolumeFraction) * restVolume - volume;
-  const auto hard = simd::both(shortfall > zero,
-    shortfall * equalityDenominator > -residual * weightedGradient2);
-  const T demand = simd::select(hard, shortfall, -residual);
-  const T denominator = simd::select(hard, weightedGradient2, equalityDenominator);
+  auto hard = shortfall > zero;
+  if (simd::any(hard)) // rare: a branch skips the selects in every other projection
+  {
+    // The hard inequality where it asks for more than the equality's step (a stiff tet's own
+    // step can): (least - V) / sum w|G|^2 > -residual / equality denominator, cross-multiplied
+    // (both denominators positive where anything moves) to keep one division per tet.
+    hard = simd::both(hard, shortfall * denominator > demand * weightedGradient2);
+    demand = simd::select(hard, shortfall, demand);
+    denominator = simd::select(hard, weightedGradient2, denominator);
+  }
   // All corners pinned, or a flat tet (zero gradients): nothing can move.
   const auto solves = simd::both(stiff, denominator > zero);
   const T q = simd::select(solves, (scale * demand) / denominator, zero);
