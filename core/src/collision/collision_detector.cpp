@@ -388,6 +388,9 @@ void CollisionDetector::collectGridPairs()
   const std::size_t entries = Grid.entryCount();
   const std::size_t blocks = (entries + kBlock - 1) / kBlock;
   const bool keepSameBody = detectsSelf();
+  auto bodyOf = [&](std::int32_t colliding) {
+    return Geometry.bodyOf[static_cast<std::size_t>(Colliding[static_cast<std::size_t>(colliding)])];
+  };
   BlockPairs.resize(blocks);
   parallelFor(blocks, 1, [&](std::size_t b) {
     std::vector<std::array<std::int32_t, 2>>& pairs = BlockPairs[b];
@@ -396,8 +399,7 @@ void CollisionDetector::collectGridPairs()
     for (std::size_t s = b * kBlock; s < end; ++s)
     {
       Grid.forEachPairFrom(s, [&](std::int32_t first, std::int32_t second) {
-        if (keepSameBody || Geometry.bodyOf[static_cast<std::size_t>(Colliding[static_cast<std::size_t>(first)])] !=
-              Geometry.bodyOf[static_cast<std::size_t>(Colliding[static_cast<std::size_t>(second)])])
+        if (keepSameBody || bodyOf(first) != bodyOf(second))
         {
           pairs.push_back({ first, second });
         }
