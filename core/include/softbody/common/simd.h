@@ -127,7 +127,9 @@ SOFTBODY_SIMD_INLINE bool any(Mask4 mask)
 }
 
 /// Lane-wise sqrt. Four scalar square roots (correctly rounded, so equal to one vsqrtpd); the
-/// vector extension has no sqrt and an intrinsic would tie the header to one target.
+/// vector extension has no sqrt and an intrinsic would tie the header to one target. Core is
+/// compiled with -fno-math-errno (core/CMakeLists.txt), without which GCC keeps four scalar
+/// sqrtsd, each followed by a branch to libm for errno; with it the AVX2 copies get one vsqrtpd.
 SOFTBODY_SIMD_INLINE double sqrt(double v)
 {
   return __builtin_sqrt(v);
