@@ -419,7 +419,8 @@ void CollisionDetector::collectGridPairs()
     PartnerStart[k + 1] += PartnerStart[k];
   }
   Partners.resize(static_cast<std::size_t>(PartnerStart.back()));
-  std::vector<std::int32_t> next(PartnerStart.begin(), PartnerStart.end() - 1);
+  std::vector<std::int32_t>& next = PartnerNext; // scratch kept between detections
+  next.assign(PartnerStart.begin(), PartnerStart.end() - 1);
   for (std::size_t b = 0; b < blocks; ++b)
   {
     for (const auto& pair : BlockPairs[b])

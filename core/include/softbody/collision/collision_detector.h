@@ -113,6 +113,7 @@ private:
   std::vector<std::vector<std::array<std::int32_t, 2>>> BlockPairs; ///< per block of grid entries
   std::vector<std::int32_t> PartnerStart; ///< point k's partners: Partners[PartnerStart[k] .. [k+1])
   std::vector<std::int32_t> Partners;
+  std::vector<std::int32_t> PartnerNext;  ///< scratch of the counting sort
   TriangleBvh SurfaceBvh;
   TriangleBvh ObstacleBvh;
   bool SurfaceBvhBuilt = false;
