@@ -183,8 +183,12 @@ TEST(CollisionDetection, FloorContactIsTheProjectionWithinTheQueryRadius)
   EXPECT_NEAR((contacts[0].surfacePoint - (near - 0.008 * n)).norm(), 0.0, 1e-12);
   EXPECT_NEAR(n.dot(contacts[0].surfacePoint - floor.origin), 0.0, 1e-12);
   EXPECT_EQ(contacts[0].thickness, margin);
-  // Out of reach at rest; in reach when the point moved there during the substep (swept).
-  const Vec3 far = floor.origin + 0.02 * n;
+  // The floor's reach: the thickness plus three margins (inactive contacts that hold the
+  // points the solve pushes down further than they moved) plus the substep's motion. Out of
+  // reach at rest; in reach when the point moved there during the substep (swept).
+  const Vec3 inReach = floor.origin + 0.039 * n;
+  EXPECT_EQ(detectOnce(detector, { inReach }, { inReach }).size(), 1u);
+  const Vec3 far = floor.origin + 0.041 * n;
   EXPECT_TRUE(detectOnce(detector, { far }, { far }).empty());
   EXPECT_EQ(detectOnce(detector, { far + 0.02 * n }, { far }).size(), 1u);
   // Far below the floor: still a contact (the floor is a half-space).

@@ -1,6 +1,7 @@
 // The PBD/XPBD contact kernels on hand-made contacts: the inequality restored exactly, shared by
 // inverse mass and barycentric weight with momentum kept, Coulomb's static and dynamic friction
-// at the position level (relative to a moving surface), restitution.
+// at the position level (relative to a moving surface), restitution; a tet crushed on the floor
+// raised back to its least volume without moving into it.
 #include "softbody/pbd/pbd_contact_kernels.h"
 
 #include <gtest/gtest.h>
@@ -144,5 +145,103 @@ TEST(PbdContactKernels, RestitutionBouncesImpactsAndLeavesRestingContacts)
   EXPECT_DOUBLE_EQ(restitutionSpeedChange(1.0, -0.5, 0.5, 0.1), 0.0);   // separating
 }
 
+
+namespace heldtet
+{
+/// Corner k held by `contacts[k]` (null: not held).
+std::array<HeldCorner, 4> corners(const std::array<const Contact*, 4>& contacts)
+{
+  std::array<HeldCorner, 4> held;
+  for (int k = 0; k < 4; ++k)
+  {
+    if (contacts[k] != nullptr)
+    {
+      held[k] = { contacts[k], contacts[k] + 1 };
+    }
+  }
+  return held;
+}
+
+/// Applies uncrushHeldTet `passes` times; checks that no corner ever moves down (into the floor).
+double uncrush(std::array<Vec3, 4>& x, const std::array<double, 4>& w, double least,
+  const std::array<HeldCorner, 4>& held, int passes)
+{
+  for (int pass = 0; pass < passes; ++pass)
+  {
+    const std::array<Vec3, 4> dx = uncrushHeldTet(x, w, least, held);
+    for (int k = 0; k < 4; ++k)
+    {
+      EXPECT_GE(dx[k].z(), 0.0) << "corner " << k << " pushed into the floor at pass " << pass;
+      x[k] += dx[k];
+    }
+  }
+  return signedTetVolume(x[0], x[1], x[2], x[3]);
+}
+} // namespace heldtet
+
+TEST(PbdContactKernels, HeldTetFlattenedOnTheFloorIsRaisedAwayFromIt)
+{
+  // A tet with all four corners held on the floor plane, nearly flat (V = 0.01 V0, as the
+  // contacts leave a bottom tet): restored to the least volume by raising corners only, where
+  // a plain volume projection would push half of them down into the floor.
+  const std::array<Vec3, 4> rest = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0.3, 0.3, 1) };
+  const double restVolume = signedTetVolume(rest[0], rest[1], rest[2], rest[3]);
+  const double least = kLeastVolumeFraction * restVolume;
+  std::array<Vec3, 4> x = rest;
+  x[3].z() = 0.01;
+  const Contact floor = floorContact(0.0);
+  const std::array<double, 4> w = { 1.0, 2.0, 0.5, 1.0 };
+  const auto held = heldtet::corners({ &floor, &floor, &floor, &floor });
+  const double after = heldtet::uncrush(x, w, least, held, 3);
+  EXPECT_GE(after, least * (1.0 - 1e-12));
+  EXPECT_LT(after, 1.01 * least); // to the limit, not beyond: it is an inequality
+  for (int k = 0; k < 3; ++k)
+  {
+    EXPECT_EQ(x[k].z(), 0.0); // the base's gradients point down: masked away entirely
+  }
+  // The plain projection would have moved the base down: its gradient is -z.
+  const Vec3 g0 = (x[3] - x[1]).cross(x[2] - x[1]);
+  EXPECT_LT(g0.z(), 0.0);
+}
+
+TEST(PbdContactKernels, HeldTetTurnedInsideOutIsRestoredWithoutPushingAnyCornerDown)
+{
+  // Base held on the floor, its apex (not held: just above the floor, outside the contact
+  // set) pushed through the base plane: V = -0.3 V0. The apex may move only up as well,
+  // since only the floor holds the tet; a few passes (the volume is cubic) reach the limit.
+  const std::array<Vec3, 4> rest = { Vec3(0, 0, 0.002), Vec3(1, 0, 0.002), Vec3(0, 1, 0.002), Vec3(0.2, 0.2, 1.002) };
+  const double restVolume = signedTetVolume(rest[0], rest[1], rest[2], rest[3]);
+  std::array<Vec3, 4> x = rest;
+  x[3].z() = 0.002 - 0.3;
+  Contact floor = floorContact(0.002);
+  const auto held = heldtet::corners({ &floor, &floor, &floor, nullptr });
+  const std::array<double, 4> w = { 1.0, 1.0, 1.0, 1.0 };
+  const double least = kLeastVolumeFraction * restVolume;
+  const double after = heldtet::uncrush(x, w, least, held, 4);
+  EXPECT_GE(after, least * (1.0 - 1e-9));
+  for (int k = 0; k < 3; ++k)
+  {
+    EXPECT_GE(x[k].z(), 0.002); // still on the free side of its contact
+  }
+}
+
+TEST(PbdContactKernels, HeldTetAboveTheLeastVolumeOrPinnedIsLeftAlone)
+{
+  const std::array<Vec3, 4> rest = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1) };
+  const double restVolume = signedTetVolume(rest[0], rest[1], rest[2], rest[3]);
+  const Contact floor = floorContact(0.0);
+  const auto held = heldtet::corners({ &floor, &floor, &floor, nullptr });
+  std::array<Vec3, 4> x = rest;
+  x[3].z() = 0.2; // V = 0.2 V0: above the least volume, a soft tet the solve may keep so
+  for (const Vec3& d : uncrushHeldTet(x, { 1, 1, 1, 1 }, kLeastVolumeFraction * restVolume, held))
+  {
+    EXPECT_EQ(d, Vec3::Zero());
+  }
+  x[3].z() = 0.0; // flat, but the only corner that could rise is pinned
+  for (const Vec3& d : uncrushHeldTet(x, { 1, 1, 1, 0 }, kLeastVolumeFraction * restVolume, held))
+  {
+    EXPECT_EQ(d, Vec3::Zero());
+  }
+}
 } // namespace
 } // namespace softbody

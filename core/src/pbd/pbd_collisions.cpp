@@ -146,6 +146,7 @@ void PbdSimulation::detectContacts(double h)
     }
   }
   ObstacleGroups.push_back(Contacts.size()); // the end of the last group
+  collectHeldTets();
 }
 
 void PbdSimulation::projectContacts()

@@ -70,8 +70,11 @@ StepPlan planPbd(const PbdSettings& settings, const DistanceBatch& links,
   {
     // Friction acts in the solve (position level); only restitution needs the velocity pass.
     const CollisionSettings& c = settings.collisions;
-    plan.add(Stage::SolveContacts,
-      c.staticFriction > 0.0 || c.dynamicFriction > 0.0 ? "with friction" : "frictionless");
+    // With tet volumes, the tets with a corner held by an obstacle are kept from being crushed
+    // by the contacts, after the last iteration (pbd_held_tets.cpp).
+    const bool heldTets = plan.runs(Stage::SolveVolumes);
+    std::string detail = c.staticFriction > 0.0 || c.dynamicFriction > 0.0 ? "with friction" : "frictionless";
+    plan.add(Stage::SolveContacts, heldTets ? detail + ", held tets kept from crushing" : detail);
   }
   if (settings.residualTolerance > 0.0)
   {

@@ -216,6 +216,11 @@ void PbdSimulation::solve(bool recordResiduals)
       }
     }
   }
+  if (Plan.runs(Stage::SolveContacts))
+  {
+    ScopedStageTimer timer(Plan, Stage::SolveContacts);
+    finishHeldTets();
+  }
 }
 
 void PbdSimulation::updateVelocities(double h)

@@ -160,6 +160,72 @@ inline Projection<4> projectPointTriangleContact(const std::array<Vec3, 4>& x,
   return detail::applyContactCorrection(C, contact.normal, Vec3::Zero(), p, mu, lambda);
 }
 
+/// The obstacle contacts of one tet corner: [begin, end) of the substep's ContactSet (empty when
+/// the corner touches nothing).
+struct HeldCorner
+{
+  const Contact* begin = nullptr;
+  const Contact* end = nullptr;
+};
+
+/// A tet with corners held by obstacle contacts, crushed below `leastVolume`, projected onto the
+/// hard inequality V >= leastVolume with every corner kept on the free side of every contact
+/// that holds the tet: the component of a corner's volume gradient G_k that points into a
+/// holding surface (G_k . n < 0) is removed, and the step moves the corners along those masked
+/// gradients G'_k,
+///   dx_k = w_k s G'_k,  s = 6 (leastVolume - V) / sum_k w_k G_k . G'_k,
+/// which raises the linearized volume by exactly the shortfall (dV = sum_k G_k . dx_k / 6). The
+/// held corners cannot be pushed into what holds them, and neither can the others (a corner a
+/// hair above the floor is not in the contact set; moving it down would put it through): only
+/// what holds the tet can push it, and it pushes away from itself. This is the projection of
+/// the volume and the contacts together on their active set; a plain volume projection
+/// followed by the contacts, as the iteration otherwise does, lets the contacts flatten the
+/// tet again. Returns zero corrections when the tet is not crushed or cannot move that way.
+inline std::array<Vec3, 4> uncrushHeldTet(const std::array<Vec3, 4>& x, const std::array<double, 4>& w,
+  double leastVolume, const std::array<HeldCorner, 4>& held)
+{
+  std::array<Vec3, 4> dx{ Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero() };
+  const Vec3 e1 = x[1] - x[0], e2 = x[2] - x[0], e3 = x[3] - x[0];
+  std::array<Vec3, 4> G;
+  G[1] = e2.cross(e3);
+  G[2] = e3.cross(e1);
+  G[3] = e1.cross(e2);
+  G[0] = -(G[1] + G[2] + G[3]);
+  const double shortfall = leastVolume - e1.dot(G[1]) / 6.0;
+  if (!(shortfall > 0.0))
+  {
+    return dx;
+  }
+  double denominator = 0.0;
+  for (int k = 0; k < 4; ++k)
+  {
+    Vec3 masked = G[k];
+    for (const HeldCorner& corner : held)
+    {
+      for (const Contact* c = corner.begin; c != corner.end; ++c)
+      {
+        const double into = masked.dot(c->normal);
+        if (into < 0.0)
+        {
+          masked -= into * c->normal;
+        }
+      }
+    }
+    dx[k] = w[k] * masked;
+    denominator += G[k].dot(dx[k]);
+  }
+  if (!(denominator > 0.0))
+  {
+    return { Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero() };
+  }
+  const double s = 6.0 * shortfall / denominator;
+  for (Vec3& d : dx)
+  {
+    d *= s;
+  }
+  return dx;
+}
+
 /// Restitution of one contact on the velocities after the solve (Mueller et al. 2020, sec.
 /// 3.6): `approach` is the relative normal speed n . (v_rel) before the solve (< 0 when
 /// approaching), `now` the one after it. An impact faster than `restingSpeed` leaves at

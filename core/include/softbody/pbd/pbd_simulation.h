@@ -100,6 +100,11 @@ private:
   void replan();
   void detectContacts(double h);
   void projectContacts();
+  /// Tets with a corner in obstacle contact, and their repair after the last iteration
+  /// (pbd_held_tets.cpp).
+  void collectHeldTets();
+  std::size_t uncrushHeldTets(); ///< one pass; returns how many tets it corrected
+  void finishHeldTets();         ///< passes after the last iteration, until none is corrected
   double contactResidual() const;
   void applyContactResponse(double h);
   void applyBodyRestitution(double h);
@@ -150,6 +155,11 @@ private:
   /// ObstacleGroups[g + 1]) are one point's, solved as one parallel task.
   std::vector<std::size_t> ObstacleGroups;
   std::vector<std::size_t> BodyContacts; ///< point-point and point-triangle contacts, in order
+  Csr PointTets; ///< point -> stored tets it is a corner of (built at the first detection)
+  std::vector<std::int32_t> ObstacleGroupOf; ///< point -> its ObstacleGroups index, -1: none
+  std::vector<std::int32_t> HeldPoints;      ///< points with obstacle contacts this substep
+  std::vector<std::int32_t> HeldTets;        ///< stored tets with a held corner, in input order
+  std::vector<std::int32_t> InputTetOf;      ///< stored tet -> input tet (empty: the same)
   double SubstepTime = 0.0;              ///< start of the current substep [s]
   double SubstepStep = 0.0;              ///< its length [s]
   std::vector<Vec3> JacobiScratch;
