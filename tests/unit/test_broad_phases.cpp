@@ -293,6 +293,43 @@ TEST(BroadPhaseStructures, HashedGridForSparsePointsFindsThePairsToo)
   EXPECT_EQ(gridPairs(grid, few, fewReach), truePairs(few, fewReach));
 }
 
+TEST(BroadPhaseStructures, GridWithGroupsSkipsExactlyThePairsOfOneGroup)
+{
+  // The detector's bodies as groups (no self collision): the grid reports every pair within
+  // reach of two different groups and none of one group, in the dense and the hashed layout.
+  for (bool sparse : { false, true })
+  {
+    std::vector<Vec3> x = randomPoints(1200, 0.5, true, 7);
+    if (sparse)
+    {
+      for (std::size_t i = 0; i < x.size(); i += 2)
+      {
+        x[i] += Vec3(1000.0, -2000.0, 500.0);
+      }
+    }
+    const std::vector<double> reach = randomReaches(x.size(), 0.02, 8);
+    std::vector<std::int32_t> groups(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+      groups[i] = static_cast<std::int32_t>((i * 7) % 5); // interleaved, as bodies sorted by index are not
+    }
+    std::vector<std::pair<int, int>> expected;
+    for (const auto& [a, b] : truePairs(x, reach))
+    {
+      if (groups[static_cast<std::size_t>(a)] != groups[static_cast<std::size_t>(b)])
+      {
+        expected.emplace_back(a, b);
+      }
+    }
+    ASSERT_GT(expected.size(), 50u);
+    ASSERT_LT(expected.size(), truePairs(x, reach).size()); // some pairs are within a group
+    UniformGrid grid;
+    grid.build(x, reach, 2.0 * *std::max_element(reach.begin(), reach.end()), groups);
+    EXPECT_EQ(grid.dense(), !sparse);
+    EXPECT_EQ(gridPairs(grid, x, reach), expected);
+  }
+}
+
 TEST(BroadPhases, SameContactSetAsBruteForceOnRandomScenes)
 {
   std::size_t scenes = 0;

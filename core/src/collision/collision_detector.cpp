@@ -383,7 +383,18 @@ void CollisionDetector::prepareBroadPhase(BroadPhase kind, const std::vector<Vec
     const double largest = n == 0 ? 0.0 : *std::max_element(CollidingReach.begin(), CollidingReach.end());
     // Cells at least twice the largest reach: every pair within reach is in neighbouring cells.
     // (Not zero when nothing has a reach: coincident points still share a cell.)
-    Grid.build(CollidingPositions, CollidingReach, largest > 0.0 ? 2.0 * largest : 1.0);
+    // Without self collisions, pairs within one body are dropped by the grid itself, before
+    // their distance test (touching particles of a body are most of the pairs it finds).
+    if (!detectsSelf())
+    {
+      CollidingBody.resize(n);
+      parallelFor(n, 4096, [&](std::size_t k) { CollidingBody[k] = Geometry.bodyOf[static_cast<std::size_t>(Colliding[k])]; });
+    }
+    else
+    {
+      CollidingBody.clear();
+    }
+    Grid.build(CollidingPositions, CollidingReach, largest > 0.0 ? 2.0 * largest : 1.0, CollidingBody);
     collectGridPairs();
   }
 }
@@ -393,15 +404,11 @@ void CollisionDetector::collectGridPairs()
   // Fixed blocks of entries, each with its own list: the concatenation is the same at any
   // thread count. Then a stable counting sort by the smaller point: each point's partners in
   // discovery order (the candidates are sorted per point afterwards anyway).
-  // Without self collisions, pairs within one body are dropped here rather than one by one in
-  // the narrow phase (touching particles of a body are most of the pairs the grid finds).
+  // (Without self collisions the grid was built with the bodies as groups: it reports no pair
+  // within one body.)
   constexpr std::size_t kBlock = 1024;
   const std::size_t entries = Grid.entryCount();
   const std::size_t blocks = (entries + kBlock - 1) / kBlock;
-  const bool keepSameBody = detectsSelf();
-  auto bodyOf = [&](std::int32_t colliding) {
-    return Geometry.bodyOf[static_cast<std::size_t>(Colliding[static_cast<std::size_t>(colliding)])];
-  };
   BlockPairs.resize(blocks);
   parallelFor(blocks, 1, [&](std::size_t b) {
     std::vector<std::array<std::int32_t, 2>>& pairs = BlockPairs[b];
@@ -409,12 +416,7 @@ void CollisionDetector::collectGridPairs()
     const std::size_t end = std::min(entries, (b + 1) * kBlock);
     for (std::size_t s = b * kBlock; s < end; ++s)
     {
-      Grid.forEachPairFrom(s, [&](std::int32_t first, std::int32_t second) {
-        if (keepSameBody || bodyOf(first) != bodyOf(second))
-        {
-          pairs.push_back({ first, second });
-        }
-      });
+      Grid.forEachPairFrom(s, [&](std::int32_t first, std::int32_t second) { pairs.push_back({ first, second }); });
     }
   });
   PartnerStart.assign(Colliding.size() + 1, 0);
@@ -488,7 +490,9 @@ void CollisionDetector::collectAccelerated(BroadPhase kind, std::size_t collidin
 void CollisionDetector::detect(const std::vector<Vec3>& start, const std::vector<Vec3>& predicted,
   double time, double h, ContactSet& out)
 {
-  out.clear();
+  // `out` is cleared where nothing is detected and otherwise resized to the new set at the
+  // end, so the contacts of the last detection are overwritten rather than destroyed and
+  // constructed again (58,730 contacts, 7.5 MB, on 100,000 particles).
   Stats = DetectionStats{};
   const BroadPhase kind = resolveBroadPhase();
   Stats.broadPhase = kind;
@@ -499,6 +503,7 @@ void CollisionDetector::detect(const std::vector<Vec3>& start, const std::vector
   }
   if (Settings.mode == CollisionMode::Off)
   {
+    out.clear();
     return;
   }
   prepareSubstep(start, predicted, time, h);
@@ -552,17 +557,19 @@ void CollisionDetector::detect(const std::vector<Vec3>& start, const std::vector
     examined[b] = candidates.examined;
   });
 
-  std::size_t total = 0;
+  // The blocks' contacts in block order, copied in parallel to their offsets (a serial
+  // concatenation was a tenth of the detection on 100,000 particles at 2 threads).
+  std::vector<std::size_t>& offsets = BlockOffsets;
+  offsets.assign(blocks + 1, 0);
   for (std::size_t b = 0; b < blocks; ++b)
   {
-    total += perBlock[b].size();
+    offsets[b + 1] = offsets[b] + perBlock[b].size();
     Stats.candidatePairs += examined[b];
   }
-  out.reserve(total);
-  for (const ContactSet& contacts : perBlock)
-  {
-    out.insert(out.end(), contacts.begin(), contacts.end());
-  }
+  out.resize(offsets[blocks]);
+  parallelFor(blocks, 1, [&](std::size_t b) {
+    std::copy(perBlock[b].begin(), perBlock[b].end(), out.begin() + static_cast<std::ptrdiff_t>(offsets[b]));
+  });
   Stats.contacts = out.size();
 }
 

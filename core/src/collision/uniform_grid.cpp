@@ -26,7 +26,8 @@ float roundedUp(double value)
 
 } // namespace
 
-void UniformGrid::build(const std::vector<Vec3>& positions, const std::vector<double>& reaches, double cellSize)
+void UniformGrid::build(const std::vector<Vec3>& positions, const std::vector<double>& reaches, double cellSize,
+  const std::vector<std::int32_t>& groups)
 {
   const std::size_t n = positions.size();
   InverseCell = cellSize > 0.0 ? 1.0 / cellSize : 1.0;
@@ -109,10 +110,15 @@ void UniformGrid::build(const std::vector<Vec3>& positions, const std::vector<do
     }
   }
   Entries.resize(n);
+  EntryGroups.resize(groups.empty() ? 0 : n);
   parallelFor(n, 4096, [&](std::size_t s) {
     Entries[s].position = positions[items[s]];
     Entries[s].reach = roundedUp(reaches[items[s]]);
     Entries[s].item = items[s];
+    if (!groups.empty())
+    {
+      EntryGroups[s] = groups[static_cast<std::size_t>(items[s])];
+    }
   });
 }
 

@@ -33,7 +33,13 @@ public:
   /// Sorts items 0..n-1 (positions, reaches) into cells of `cellSize`, which must be at least
   /// twice the largest reach so that every pair within reach_i + reach_j is in neighbouring
   /// cells. Deterministic: the sort is stable, items of one bucket stay in index order.
-  void build(const std::vector<Vec3>& positions, const std::vector<double>& reaches, double cellSize);
+  /// `groups` (empty, or one per item): forEachPairFrom skips pairs of one group, before their
+  /// distance test; the group is stored beside the sorted entries, so the test reads contiguous
+  /// memory (the collision detector's bodies: without self collision most pairs the grid finds
+  /// are neighbours in one body, and looking their bodies up item by item was a quarter of the
+  /// detection on 100,000 particles).
+  void build(const std::vector<Vec3>& positions, const std::vector<double>& reaches, double cellSize,
+    const std::vector<std::int32_t>& groups = {});
 
   /// visit(item) for every item j > `after` with |p - x_j| <= reach + reach_j, each once (pass
   /// -1 for all items; a point querying with its own index finds each pair once). A few
@@ -42,7 +48,8 @@ public:
   template <typename Visit>
   void forEachNear(const Vec3& p, double reach, std::int32_t after, const Visit& visit) const;
 
-  /// Every pair of items within reach_i + reach_j, each exactly once over all sorted entries
+  /// Every pair of items within reach_i + reach_j (of different groups, when built with groups),
+  /// each exactly once over all sorted entries
   /// 0..entryCount()-1: entry s calls visitPair(a, b), a < b, for the pairs it owns. A few
   /// farther pairs may come too (reaches in single precision, rounded up). Dense layout: a half
   /// stencil - the rest of the entry's own cell and the 13 neighbour cells after it in the
@@ -70,6 +77,9 @@ private:
   void scanDense(std::int64_t ix, std::int64_t iy, std::int64_t iz, const Scan& scan) const;
   template <typename Scan>
   void scanHashed(std::int64_t ix, std::int64_t iy, std::int64_t iz, const Scan& scan) const;
+  /// visitEntry(s) for every sorted entry s with item > `after` within reach of p.
+  template <typename VisitEntry>
+  void forEachEntryNear(const Vec3& p, double reach, std::int32_t after, const VisitEntry& visitEntry) const;
 
   /// One sorted item: what a query reads, in 32 bytes (two per cache line).
   struct Entry
@@ -86,6 +96,7 @@ private:
   std::uint64_t Mask = 0;               ///< hashed: table size - 1
   std::vector<std::uint32_t> BucketStart; ///< prefix sums: bucket b holds [start[b], start[b+1])
   std::vector<Entry> Entries;             ///< items sorted by bucket (stable: ascending in each)
+  std::vector<std::int32_t> EntryGroups;  ///< the entries' groups (empty: built without groups)
   std::vector<std::int64_t> ScratchCells;
   std::vector<std::uint32_t> ScratchBuckets;
   std::vector<std::int32_t> ScratchItems;
@@ -167,8 +178,8 @@ void UniformGrid::scanHashed(std::int64_t ix, std::int64_t iy, std::int64_t iz, 
   }
 }
 
-template <typename Visit>
-void UniformGrid::forEachNear(const Vec3& p, double reach, std::int32_t after, const Visit& visit) const
+template <typename VisitEntry>
+void UniformGrid::forEachEntryNear(const Vec3& p, double reach, std::int32_t after, const VisitEntry& visitEntry) const
 {
   if (Entries.empty())
   {
@@ -181,7 +192,7 @@ void UniformGrid::forEachNear(const Vec3& p, double reach, std::int32_t after, c
       const double within = reach + static_cast<double>(entry.reach);
       if (entry.item > after && (entry.position - p).squaredNorm() <= within * within)
       {
-        visit(entry.item);
+        visitEntry(s);
       }
     }
   };
@@ -196,19 +207,36 @@ void UniformGrid::forEachNear(const Vec3& p, double reach, std::int32_t after, c
   }
 }
 
+template <typename Visit>
+void UniformGrid::forEachNear(const Vec3& p, double reach, std::int32_t after, const Visit& visit) const
+{
+  forEachEntryNear(p, reach, after, [&](std::uint32_t s) { visit(Entries[s].item); });
+}
+
 template <typename VisitPair>
 void UniformGrid::forEachPairFrom(std::size_t entry, const VisitPair& visitPair) const
 {
   const Entry& self = Entries[entry];
   const double reach = static_cast<double>(self.reach);
+  const bool grouped = !EntryGroups.empty();
+  const std::int32_t group = grouped ? EntryGroups[entry] : 0;
   if (!Dense)
   {
-    forEachNear(self.position, reach, self.item, [&](std::int32_t other) { visitPair(self.item, other); });
+    forEachEntryNear(self.position, reach, self.item, [&](std::uint32_t s) {
+      if (!grouped || EntryGroups[s] != group)
+      {
+        visitPair(self.item, Entries[s].item);
+      }
+    });
     return;
   }
   auto scan = [&](std::uint32_t s, std::uint32_t e) {
     for (; s < e; ++s)
     {
+      if (grouped && EntryGroups[s] == group)
+      {
+        continue;
+      }
       const Entry& other = Entries[s];
       const double within = reach + static_cast<double>(other.reach);
       if ((other.position - self.position).squaredNorm() <= within * within)
