@@ -91,8 +91,11 @@ struct ProjectionLanes
 
 /// Distance constraint C = |d| - rest, d = x0 - x1, gradients +-d/|d|. With the XPBD step
 /// dLambda = -scale (C + alphaTilde lambda) / (w0 + w1 + alphaTilde), the corrections are
-/// dx0 = w0 dLambda d/|d| and dx1 = -w1 dLambda d/|d|, computed as (w dLambda/|d|) d: two
-/// divisions per link instead of four (n = d/|d| divided each component).
+/// dx0 = w0 dLambda d/|d| and dx1 = -w1 dLambda d/|d|, computed as (w p) d with the one
+/// division p = -scale (C + alphaTilde lambda) / ((w0 + w1 + alphaTilde) |d|), and dLambda = p |d|
+/// (four divisions once, when n = d/|d| was divided component by component; two until
+/// 2026-12-01: the sequential Gauss-Seidel on the 180k-tet ellipsoid took 3.01-3.21 ms per
+/// iteration with two per link and two per tet, 2.78-2.84 with one each, bench_wide_kernels).
 template <class T>
 SOFTBODY_SIMD_INLINE ProjectionLanes<T, 2> distance(const simd::Vec3Lanes<T>& x0, const simd::Vec3Lanes<T>& x1,
   T w0, T w1, T rest, bool atLeast, T lambda, T scale, T alphaTilde)
@@ -115,8 +118,10 @@ SOFTBODY_SIMD_INLINE ProjectionLanes<T, 2> distance(const simd::Vec3Lanes<T>& x0
   const auto solves = simd::both(stiff, denominator > zero);
   ProjectionLanes<T, 2> out;
   out.residual = simd::select(stiff, residual, zero);
-  out.dLambda = simd::select(solves, (-scale * residual) / denominator, zero);
-  const T perLength = simd::select(moves, out.dLambda / length, zero);
+  // One division: the correction per unit length, dLambda / |d|, and dLambda from it.
+  const T perLengthAll = (-scale * residual) / (denominator * length);
+  const T perLength = simd::select(solves, perLengthAll, zero);
+  out.dLambda = simd::select(solves, perLengthAll * length, zero);
   out.dx[0] = (w0 * perLength) * d;
   out.dx[1] = (-(w1 * perLength)) * d;
   return out;
@@ -127,8 +132,10 @@ SOFTBODY_SIMD_INLINE ProjectionLanes<T, 2> distance(const simd::Vec3Lanes<T>& x0
 ///   sum_k w_k |g_k|^2 + alphaTilde = (sum_k w_k |G_k|^2 + 36 alphaTilde) / 36
 ///   q = -scale (C + alphaTilde lambda) / (sum_k w_k |G_k|^2 + 36 alphaTilde)
 ///   dLambda = 36 q,   dx_k = w_k dLambda g_k = (6 q w_k) G_k.
-/// Two divisions per tet; the gradients divided by 6 took nine more (the divider's throughput
-/// was the kernel's bottleneck: see README, Performance).
+/// One division per tet: the constraint is evaluated in units of 6 V (6 C = e1.G1 - 6 V0, no
+/// division for the volume) and q = -scale 6 (C + alphaTilde lambda) / (6 (sum_k w_k |G_k|^2 +
+/// 36 alphaTilde)). The gradients divided by 6 once took nine more and the volume one (the
+/// divider's throughput was the kernel's bottleneck: see README, Performance).
 ///
 /// Non-inversion: a tet crushed below kLeastVolumeFraction of its rest volume is projected as
 /// the hard inequality V >= kLeastVolumeFraction * restVolume (no compliance, its multiplier
@@ -150,29 +157,32 @@ SOFTBODY_SIMD_INLINE ProjectionLanes<T, 4> tetVolume(const simd::Vec3Lanes<T>& x
   G[2] = simd::cross(e3, e1);
   G[3] = simd::cross(e1, e2);
   G[0] = -((G[1] + G[2]) + G[3]);
-  const T volume = simd::dot(e1, G[1]) / broadcast<T>(6.0);
-  const T C = volume - restVolume;
+  // In units of 6 V: no division for the volume; the 6 goes into the denominator instead.
+  const T six = broadcast<T>(6.0);
+  const T volume6 = simd::dot(e1, G[1]);
+  const T C6 = volume6 - six * restVolume;
   const T weightedGradient2 = ((w[0] * simd::dot(G[0], G[0]) + w[1] * simd::dot(G[1], G[1])) +
                                 w[2] * simd::dot(G[2], G[2])) + w[3] * simd::dot(G[3], G[3]);
   const auto stiff = scale != zero; // zero stiffness asks for nothing
-  const T residual = C + alphaTilde * lambda;
-  T demand = -residual;
-  T denominator = weightedGradient2 + broadcast<T>(36.0) * alphaTilde;
-  const T shortfall = broadcast<T>(kLeastVolumeFraction) * restVolume - volume;
-  auto hard = shortfall > zero;
+  const T residual6 = C6 + six * (alphaTilde * lambda);
+  T demand = -residual6;
+  T denominator = six * (weightedGradient2 + broadcast<T>(36.0) * alphaTilde);
+  const T shortfall6 = six * (broadcast<T>(kLeastVolumeFraction) * restVolume) - volume6;
+  auto hard = shortfall6 > zero;
   if (simd::any(hard)) // rare: a branch skips the selects in every other projection
   {
     // The hard inequality where it asks for more than the equality's step (a stiff tet's own
     // step can): (least - V) / sum w|G|^2 > -residual / equality denominator, cross-multiplied
     // (both denominators positive where anything moves) to keep one division per tet.
-    hard = simd::both(hard, shortfall * denominator > demand * weightedGradient2);
-    demand = simd::select(hard, shortfall, demand);
-    denominator = simd::select(hard, weightedGradient2, denominator);
+    const T hardDenominator = six * weightedGradient2;
+    hard = simd::both(hard, shortfall6 * denominator > demand * hardDenominator);
+    demand = simd::select(hard, shortfall6, demand);
+    denominator = simd::select(hard, hardDenominator, denominator);
   }
   // All corners pinned, or a flat tet (zero gradients): nothing can move.
   const auto solves = simd::both(stiff, denominator > zero);
   const T q = simd::select(solves, (scale * demand) / denominator, zero);
-  out.residual = simd::select(stiff, residual, zero);
+  out.residual = simd::select(stiff, residual6 * broadcast<T>(1.0 / 6.0), zero);
   out.dLambda = simd::select(hard, zero, broadcast<T>(36.0) * q);
   const T sixQ = broadcast<T>(6.0) * q;
   for (int k = 0; k < 4; ++k)
