@@ -198,6 +198,44 @@ TEST(CollisionDetection, FloorContactIsTheProjectionWithinTheQueryRadius)
   EXPECT_TRUE(detectOnce(off, { floor.origin - n }, { floor.origin - n }).empty());
 }
 
+TEST(CollisionDetection, FloorAloneGivesTheContactsOfTheFullSearch)
+{
+  // With nothing but the floor to meet, detection takes a one-pass path (no neighbour search);
+  // the same points and floor with body collisions on (one body, no self collision: nothing
+  // more to find) take the full search. Both must give the same contacts, field by field.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  std::vector<Vec3> start, predicted;
+  for (int i = 0; i < 2000; ++i)
+  {
+    start.emplace_back(u(rng), u(rng), 0.06 + u(rng)); // from 1 cm above the floor to 11 cm
+    predicted.push_back(start.back() + Vec3(u(rng), u(rng), u(rng)) * 0.2);
+  }
+  CollisionGeometry g;
+  addParticleBody(g, start, 0.002, 0);
+  FloorPlane floor;
+  floor.origin = Vec3(0, 0, 0.01);
+  floor.normal = Vec3(0.1, 0.0, 1.0);
+  CollisionDetector floorOnly(g, settingsWith(CollisionMode::Obstacles, 0.003), true, floor);
+  CollisionDetector fullSearch(g, settingsWith(CollisionMode::ObstaclesAndBodies, 0.003), true, floor);
+  const ContactSet a = detectOnce(floorOnly, start, predicted);
+  const ContactSet b = detectOnce(fullSearch, start, predicted);
+  ASSERT_GT(a.size(), 100u);
+  ASSERT_LT(a.size(), start.size()); // some points are out of reach
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k)
+  {
+    EXPECT_EQ(a[k].point, b[k].point);
+    EXPECT_EQ(a[k].kind, ContactKind::Obstacle);
+    EXPECT_EQ(b[k].kind, ContactKind::Obstacle);
+    EXPECT_EQ(a[k].source, b[k].source);
+    EXPECT_EQ(a[k].normal, b[k].normal);
+    EXPECT_EQ(a[k].surfacePoint, b[k].surfacePoint);
+    EXPECT_EQ(a[k].thickness, b[k].thickness);
+  }
+  EXPECT_EQ(floorOnly.stats().candidatePairs, start.size()); // one floor test per point
+}
+
 TEST(CollisionDetection, ObstacleIsOneSidedWithTheClosestFeature)
 {
   const double margin = 0.01, radius = 0.005;

@@ -51,6 +51,8 @@ struct DetectionStats
   BroadPhase broadPhase = BroadPhase::BruteForce; ///< the kind used (Automatic resolved)
 };
 
+struct ContactCandidate; // narrow_phase.h
+
 class CollisionDetector
 {
 public:
@@ -80,6 +82,8 @@ private:
   void prepareSubstep(const std::vector<Vec3>& start, const std::vector<Vec3>& predicted, double time, double h);
   BroadPhase resolveBroadPhase() const;
   void prepareBroadPhase(BroadPhase kind, const std::vector<Vec3>& predicted);
+  /// The floor's contact of `point` at `predicted`, moved `displacement` over the substep.
+  bool floorCandidate(std::int32_t point, const Vec3& predicted, double displacement, ContactCandidate& c) const;
   void collectBruteForce(std::size_t colliding, const std::vector<Vec3>& start,
     const std::vector<Vec3>& predicted, Candidates& candidates) const;
   void collectAccelerated(BroadPhase kind, std::size_t colliding, const std::vector<Vec3>& start,
