@@ -12,6 +12,11 @@
 // mesh in input order (the gain of reordering, measured in the same run) and its per-tet time
 // over the largest box's in its generated order (same threads). Results also go to CSV.
 //
+// Then, per mesh in Morton order, an access probe: the force evaluation (both element passes
+// and both gathers) against the same loops with the same index streams, loads and stores but
+// no arithmetic (each loaded value summed into the stored one): how much of the evaluation the
+// memory accesses alone take.
+//
 // Usage: bench_mass_spring [--smoke] [--data <shared data dir>] [--csv <file>]
 //                          [--mesh <name or file>] [--repeat <timed runs per case>]
 #include "bench_meshes.h"
@@ -19,12 +24,16 @@
 #include "memory_bandwidth.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/common/parallel.h"
+#include "softbody/massspring/mass_spring_forces.h"
 #include "softbody/massspring/mass_spring_reordered.h"
+#include "softbody/mesh/reorder.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -104,6 +113,80 @@ Measurement measure(const TetMesh& mesh, VertexOrdering ordering, bool smoke, in
   result.cpuSecondsPerStep = bench::minMedian(cpuPerStep).min;
   result.hash = bench::hashPositions(sim->positions());
   return result;
+}
+
+/// Least wall seconds of `run` over `repeat` groups of `calls` calls.
+template <class Run>
+double leastSecondsPerCall(int repeat, int calls, const Run& run)
+{
+  double best = 1e300;
+  for (int r = 0; r < repeat; ++r)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    for (int c = 0; c < calls; ++c)
+    {
+      run();
+    }
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / calls);
+  }
+  return best;
+}
+
+/// The access probe (file comment): returns {force evaluation, accesses alone} in seconds.
+std::pair<double, double> accessProbe(const TetMesh& mesh, int repeat)
+{
+  const Reordering reordering = computeReordering(VertexOrdering::Morton, mesh.points, mesh.tets, {}, true);
+  const std::vector<Vec3> x = toStorageOrder(mesh.points, reordering.vertexOrder);
+  const Topology topology = buildTopology(x.size(), reorderTets(mesh.tets, reordering));
+  std::vector<std::string> warnings;
+  const ElementConstants constants = computeElementConstants(topology, x, MaterialSettings{}, warnings);
+  const std::vector<Vec3> v(x.size(), Vec3(0.01, -0.02, 0.03));
+  ForceScratch scratch;
+  std::vector<Vec3> forces;
+  const double evaluation = leastSecondsPerCall(repeat, 20, [&] {
+    computeInternalForces(topology, constants, x, v, scratch, forces);
+  });
+  // The same loops (chunks, grains, index streams) with every value loaded once and summed.
+  std::vector<Vec3> springForce(topology.edges.size()), cornerForce(4 * topology.tets.size()), sums(x.size());
+  const double accesses = leastSecondsPerCall(repeat, 20, [&] {
+    parallelFor((topology.edges.size() + 2047) / 2048, 1, [&](std::size_t chunk) {
+      for (std::size_t e = chunk * 2048; e < std::min(topology.edges.size(), chunk * 2048 + 2048); ++e)
+      {
+        const Edge& edge = topology.edges[e];
+        springForce[e] = x[edge.a] + x[edge.b] + v[edge.a] + v[edge.b] +
+          Vec3::Constant(constants.restLength[e] + constants.springStiffness[e] + constants.springDamping[e]);
+      }
+    });
+    parallelFor((topology.tets.size() + 2047) / 2048, 1, [&](std::size_t chunk) {
+      for (std::size_t t = chunk * 2048; t < std::min(topology.tets.size(), chunk * 2048 + 2048); ++t)
+      {
+        const Tet& tet = topology.tets[t];
+        const Vec3 c = Vec3::Constant(constants.restVolume[t] + constants.volumeStiffness[t] + constants.volumeDamping[t]);
+        for (int k = 0; k < 4; ++k)
+        {
+          cornerForce[4 * t + static_cast<std::size_t>(k)] = x[tet[k]] + v[tet[k]] + c;
+        }
+      }
+    });
+    parallelFor(x.size(), 1024, [&](std::size_t i) {
+      Vec3 sum = Vec3::Zero();
+      for (std::int32_t k = topology.vertexEdges.offsets[i]; k < topology.vertexEdges.offsets[i + 1]; ++k)
+      {
+        const std::int32_t e = topology.vertexEdges.items[k];
+        sum += (topology.edges[e].a == static_cast<std::int32_t>(i)) ? springForce[e] : Vec3(-springForce[e]);
+      }
+      sums[i] = sum;
+    });
+    parallelFor(x.size(), 1024, [&](std::size_t i) {
+      Vec3 sum = sums[i];
+      for (std::int32_t k = topology.vertexTetCorners.offsets[i]; k < topology.vertexTetCorners.offsets[i + 1]; ++k)
+      {
+        sum += cornerForce[static_cast<std::size_t>(topology.vertexTetCorners.items[k])];
+      }
+      sums[i] = sum;
+    });
+  });
+  return { evaluation, accesses };
 }
 
 } // namespace
@@ -210,6 +293,18 @@ int main(int argc, char** argv)
           return 1;
         }
       }
+    }
+  }
+  std::printf("\nAccess probe, Morton order: ms per force evaluation against the same loops doing "
+              "only their loads and stores (no arithmetic), least of %d\n", options.repeat);
+  for (const auto& named : meshes)
+  {
+    for (int threads : threadCounts)
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      const auto [evaluation, accesses] = accessProbe(named.mesh, options.smoke ? 1 : options.repeat);
+      std::printf("%-22s %d thread(s): evaluation %.3f ms, accesses alone %.3f ms (%.0f %%)\n", named.name.c_str(),
+        threads, 1e3 * evaluation, 1e3 * accesses, 100.0 * accesses / evaluation);
     }
   }
   if (options.smoke)
