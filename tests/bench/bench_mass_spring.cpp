@@ -115,23 +115,6 @@ Measurement measure(const TetMesh& mesh, VertexOrdering ordering, bool smoke, in
   return result;
 }
 
-/// Least wall seconds of `run` over `repeat` groups of `calls` calls.
-template <class Run>
-double leastSecondsPerCall(int repeat, int calls, const Run& run)
-{
-  double best = 1e300;
-  for (int r = 0; r < repeat; ++r)
-  {
-    const auto start = std::chrono::steady_clock::now();
-    for (int c = 0; c < calls; ++c)
-    {
-      run();
-    }
-    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / calls);
-  }
-  return best;
-}
-
 /// The access probe (file comment): returns {force evaluation, accesses alone} in seconds.
 std::pair<double, double> accessProbe(const TetMesh& mesh, int repeat)
 {
@@ -143,12 +126,12 @@ std::pair<double, double> accessProbe(const TetMesh& mesh, int repeat)
   const std::vector<Vec3> v(x.size(), Vec3(0.01, -0.02, 0.03));
   ForceScratch scratch;
   std::vector<Vec3> forces;
-  const double evaluation = leastSecondsPerCall(repeat, 20, [&] {
+  const double evaluation = bench::leastSecondsPerCall(repeat, 20, false, [&] {
     computeInternalForces(topology, constants, x, v, scratch, forces);
   });
   // The same loops (chunks, grains, index streams) with every value loaded once and summed.
   std::vector<Vec3> springForce(topology.edges.size()), cornerForce(4 * topology.tets.size()), sums(x.size());
-  const double accesses = leastSecondsPerCall(repeat, 20, [&] {
+  const double accesses = bench::leastSecondsPerCall(repeat, 20, false, [&] {
     parallelFor((topology.edges.size() + 2047) / 2048, 1, [&](std::size_t chunk) {
       for (std::size_t e = chunk * 2048; e < std::min(topology.edges.size(), chunk * 2048 + 2048); ++e)
       {

@@ -166,26 +166,6 @@ void iterate(Body& body, Sweep sweep)
   }
 }
 
-/// Least seconds of one call of `work` over `repeat` runs of `calls` calls: the calling
-/// thread's CPU time, or wall time.
-double leastSeconds(int repeat, int calls, bool cpu, const std::function<void()>& work)
-{
-  double least = 1e300;
-  for (int r = 0; r < repeat; ++r)
-  {
-    const auto wall0 = std::chrono::steady_clock::now();
-    const double cpu0 = bench::threadCpuSeconds();
-    for (int i = 0; i < calls; ++i)
-    {
-      work();
-    }
-    const double seconds = cpu ? bench::threadCpuSeconds() - cpu0
-                               : std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    least = std::min(least, seconds / calls);
-  }
-  return least;
-}
-
 } // namespace
 
 int main(int argc, char** argv)
@@ -232,7 +212,7 @@ int main(int argc, char** argv)
       }
       tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
       Body body = start;
-      seconds[int(sweep)] = leastSeconds(repeat, calls, true, [&] { iterate(body, sweep); });
+      seconds[int(sweep)] = bench::leastSecondsPerCall(repeat, calls, true, [&] { iterate(body, sweep); });
       Body check = start;
       iterate(check, sweep);
       after[int(sweep)] = check.x;
@@ -240,7 +220,7 @@ int main(int argc, char** argv)
     const double cores = bench::measureComputeParallelism(options.smoke ? 1 : 3);
     Body parallel = start;
     parallel.linkSchedule.storedByColor = parallel.volumeSchedule.storedByColor = true;
-    const double threaded = leastSeconds(repeat, calls, false, [&] {
+    const double threaded = bench::leastSecondsPerCall(repeat, calls, false, [&] {
       coloredGaussSeidelSweep(parallel.links, parallel.linkSchedule, parallel.x, parallel.w);
       coloredGaussSeidelSweep(parallel.volumes, parallel.volumeSchedule, parallel.x, parallel.w);
     });
@@ -267,18 +247,18 @@ int main(int argc, char** argv)
     ForceRow row{ named.name, 0, 0, 0, 0 };
     {
       tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-      row.baseline = leastSeconds(repeat, calls, true, [&] {
+      row.baseline = bench::leastSecondsPerCall(repeat, calls, true, [&] {
         computeInternalForces(topology, constants, start.x, v, scratch, forces, SimdLevel::Baseline);
       });
       if (avx2)
       {
-        row.avx2 = leastSeconds(repeat, calls, true, [&] {
+        row.avx2 = bench::leastSecondsPerCall(repeat, calls, true, [&] {
           computeInternalForces(topology, constants, start.x, v, scratch, forces, SimdLevel::Avx2);
         });
       }
     }
     row.cores = bench::measureComputeParallelism(options.smoke ? 1 : 3);
-    row.threads = leastSeconds(repeat, calls, false,
+    row.threads = bench::leastSecondsPerCall(repeat, calls, false,
       [&] { computeInternalForces(topology, constants, start.x, v, scratch, forces); });
     forceRows.push_back(row);
   }

@@ -78,6 +78,15 @@ CollisionDetector::CollisionDetector(CollisionGeometry geometry, const Collision
   Colliding = Geometry.collidingPoints;
   std::sort(Colliding.begin(), Colliding.end());
   Colliding.erase(std::unique(Colliding.begin(), Colliding.end()), Colliding.end());
+  // Without self collisions the grid skips pairs of one body (UniformGrid::build's groups).
+  if (!detectsSelf())
+  {
+    CollidingBody.reserve(Colliding.size());
+    for (std::int32_t point : Colliding)
+    {
+      CollidingBody.push_back(Geometry.bodyOf[static_cast<std::size_t>(point)]);
+    }
+  }
   TriangleBody.reserve(Geometry.surfaceTriangles.size());
   for (const auto& t : Geometry.surfaceTriangles)
   {
@@ -385,15 +394,6 @@ void CollisionDetector::prepareBroadPhase(BroadPhase kind, const std::vector<Vec
     // (Not zero when nothing has a reach: coincident points still share a cell.)
     // Without self collisions, pairs within one body are dropped by the grid itself, before
     // their distance test (touching particles of a body are most of the pairs it finds).
-    if (!detectsSelf())
-    {
-      CollidingBody.resize(n);
-      parallelFor(n, 4096, [&](std::size_t k) { CollidingBody[k] = Geometry.bodyOf[static_cast<std::size_t>(Colliding[k])]; });
-    }
-    else
-    {
-      CollidingBody.clear();
-    }
     Grid.build(CollidingPositions, CollidingReach, largest > 0.0 ? 2.0 * largest : 1.0, CollidingBody);
     collectGridPairs();
   }
@@ -538,8 +538,12 @@ void CollisionDetector::detect(const std::vector<Vec3>& start, const std::vector
     // The same contacts as below (a point's single candidate is kept as it is).
     parallelFor(blocks, 1, [&](std::size_t b) {
       perBlock[b].clear();
+      if (!FloorEnabled)
+      {
+        return; // nothing at all to meet
+      }
       const std::size_t end = std::min(Colliding.size(), (b + 1) * kBlock);
-      for (std::size_t k = b * kBlock; FloorEnabled && k < end; ++k)
+      for (std::size_t k = b * kBlock; k < end; ++k)
       {
         const std::int32_t point = Colliding[k];
         ContactCandidate c;
@@ -548,7 +552,7 @@ void CollisionDetector::detect(const std::vector<Vec3>& start, const std::vector
           perBlock[b].push_back(c.contact);
         }
       }
-      examined[b] = FloorEnabled ? std::min(Colliding.size(), (b + 1) * kBlock) - b * kBlock : 0;
+      examined[b] = end - b * kBlock;
     });
   }
   else

@@ -111,7 +111,7 @@ private:
   PointOctree Octree;
   std::vector<Vec3> CollidingPositions;   ///< predicted positions of Colliding
   std::vector<double> CollidingReach;     ///< r + displacement + margin / 2: pairs within the sum
-  std::vector<std::int32_t> CollidingBody; ///< body per colliding point, grid groups (empty: self collisions on)
+  std::vector<std::int32_t> CollidingBody; ///< body per colliding point, the grid's groups (empty: self collisions on); fixed
   // Uniform grid: its pairs of colliding points (indices into Colliding), found once each by
   // the grid's half stencil and listed at the smaller index, as the per-point queries did.
   void collectGridPairs();
