@@ -17,6 +17,9 @@
 
 #include "softbody/pbd/pbd_simulation.h"
 
+#include "softbody/mesh/graph_coloring.h"
+#include "softbody/mesh/reorder.h"
+
 #include <algorithm>
 
 namespace softbody
@@ -36,25 +39,16 @@ void PbdSimulation::collectHeldTets()
   }
   if (PointTets.offsets.empty())
   {
-    // Built once the tets' storage order is final (the first detection).
-    std::vector<std::int32_t> rows, items;
-    rows.reserve(4 * Volumes.size());
-    items.reserve(4 * Volumes.size());
+    // Built once the tets' storage order is final (the first detection): point -> slots
+    // 4 t + k of the stored tets, and stored tet -> input tet.
+    std::vector<std::int32_t> corners(4 * Volumes.size());
     for (std::size_t t = 0; t < Volumes.size(); ++t)
     {
-      for (std::int32_t corner : Volumes.tets[t])
-      {
-        rows.push_back(corner);
-        items.push_back(static_cast<std::int32_t>(t));
-      }
+      std::copy(Volumes.tets[t].begin(), Volumes.tets[t].end(), corners.begin() + static_cast<std::ptrdiff_t>(4 * t));
     }
-    PointTets = buildCsr(Predicted.size(), rows, items);
+    PointTets = particleSlots(Predicted.size(), corners);
     ObstacleGroupOf.assign(Predicted.size(), -1);
-    InputTetOf.assign(VolumeSlot.size(), -1);
-    for (std::size_t input = 0; input < VolumeSlot.size(); ++input)
-    {
-      InputTetOf[static_cast<std::size_t>(VolumeSlot[input])] = static_cast<std::int32_t>(input);
-    }
+    InputTetOf = VolumeSlot.empty() ? Order{} : inverseOrder(VolumeSlot);
   }
   for (std::size_t g = 0; g + 1 < ObstacleGroups.size(); ++g)
   {
@@ -62,8 +56,10 @@ void PbdSimulation::collectHeldTets()
     ObstacleGroupOf[static_cast<std::size_t>(point)] = static_cast<std::int32_t>(g);
     HeldPoints.push_back(point);
     const std::size_t p = static_cast<std::size_t>(point);
-    HeldTets.insert(HeldTets.end(), PointTets.items.begin() + PointTets.offsets[p],
-      PointTets.items.begin() + PointTets.offsets[p + 1]);
+    for (std::int32_t k = PointTets.offsets[p]; k < PointTets.offsets[p + 1]; ++k)
+    {
+      HeldTets.push_back(PointTets.items[static_cast<std::size_t>(k)] / 4); // slot 4 t + corner
+    }
   }
   // Taken in the order of the tets as given (not as stored, which depends on the vertex
   // ordering and the solver), so that the repair, a Gauss-Seidel of its own, does the same

@@ -155,7 +155,7 @@ private:
   /// ObstacleGroups[g + 1]) are one point's, solved as one parallel task.
   std::vector<std::size_t> ObstacleGroups;
   std::vector<std::size_t> BodyContacts; ///< point-point and point-triangle contacts, in order
-  Csr PointTets; ///< point -> stored tets it is a corner of (built at the first detection)
+  Csr PointTets; ///< point -> slots 4 t + k of the stored tets it is corner k of (first detection)
   std::vector<std::int32_t> ObstacleGroupOf; ///< point -> its ObstacleGroups index, -1: none
   std::vector<std::int32_t> HeldPoints;      ///< points with obstacle contacts this substep
   std::vector<std::int32_t> HeldTets;        ///< stored tets with a held corner, in input order
