@@ -94,7 +94,7 @@ struct ProjectionLanes
 /// dx0 = w0 dLambda d/|d| and dx1 = -w1 dLambda d/|d|, computed as (w p) d with the one
 /// division p = -scale (C + alphaTilde lambda) / ((w0 + w1 + alphaTilde) |d|), and dLambda = p |d|
 /// (four divisions once, when n = d/|d| was divided component by component; two until
-/// 2026-12-01: the sequential Gauss-Seidel on the 180k-tet ellipsoid took 3.01-3.21 ms per
+/// 2026-12-01: the sequential Gauss-Seidel on the 180k-tet ellipsoid took 3.01-3.23 ms per
 /// iteration with two per link and two per tet, 2.78-2.84 with one each, bench_wide_kernels).
 template <class T>
 SOFTBODY_SIMD_INLINE ProjectionLanes<T, 2> distance(const simd::Vec3Lanes<T>& x0, const simd::Vec3Lanes<T>& x1,
