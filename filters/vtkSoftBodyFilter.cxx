@@ -5,6 +5,7 @@
 #include "vtkSoftBodyFloorOutput.h"
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyImplicitReport.h"
+#include "vtkSoftBodyInversionReport.h"
 #include "vtkSoftBodyInputConversion.h"
 #include "vtkSoftBodyObstacleInput.h"
 #include "vtkSoftBodyPbdAdapter.h"
@@ -142,6 +143,7 @@ public:
   std::string DeviceWarning; ///< why the GPU was not used although asked for; empty otherwise
   std::string RunWarning;     ///< the run to EndTime will take long (steps, time, remedies)
   std::string RunWarningSaid; ///< the last one printed, so it is said once
+  bool InversionSaid = false; ///< inverted tets were warned of (once per simulation)
 
   /// The Obstacles input as the simulation was built with it (part of the cache key).
   std::vector<ObstacleConnection> Obstacles;
@@ -188,6 +190,7 @@ public:
   {
     this->Simulation.reset();
     this->Pbd = nullptr;
+    this->InversionSaid = false;
     this->Cache.Clear();
     this->SimulationFrame = -1;
     this->Input = nullptr;
@@ -893,13 +896,24 @@ void vtkSoftBodyFilter::FillMesh(
   // Core keeps the tets in input cell order, so the ratios map onto the input cells; a PBD
   // input that mixes tets with other cells maps them through the adapter (NaN for non-tets).
   std::vector<double> ratios = simulation.tetVolumeRatios();
+  const std::size_t tetCount = ratios.size();
   if (this->Internals->Pbd && !ratios.empty())
   {
     ratios = this->Internals->PbdAdapter.PerInputCell(ratios, input->GetNumberOfCells());
   }
+  std::string inversionWarning;
   if (static_cast<vtkIdType>(ratios.size()) == input->GetNumberOfCells())
   {
     output->GetCellData()->AddArray(MakeScalarArray("VolumeRatio", ratios));
+    const std::size_t inverted = vtkSoftBodyInversionReport::Count(ratios);
+    vtkSoftBodyInversionReport::AddField(inverted, output->GetFieldData());
+    inversionWarning = vtkSoftBodyInversionReport::Warning(
+      inverted, tetCount, simulation.time(), this->P);
+    if (!inversionWarning.empty() && !this->Internals->InversionSaid)
+    {
+      vtkWarningMacro(<< inversionWarning);
+      this->Internals->InversionSaid = true;
+    }
   }
 
   vtkFieldData* field = output->GetFieldData();
@@ -957,6 +971,10 @@ void vtkSoftBodyFilter::FillMesh(
   for (const std::string& warning : vtkSoftBodySettings::Warnings(this->P))
   {
     warnings.push_back(warning);
+  }
+  if (!inversionWarning.empty())
+  {
+    warnings.push_back(inversionWarning);
   }
   if (withSurface && !this->Internals->Skin.GetWarning().empty())
   {

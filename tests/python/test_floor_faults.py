@@ -15,6 +15,8 @@ cover the core kernels). Every number checked is printed.
     1 mm^3 tet), and the contact region of a fine mesh is small tets. They are printed; with
     4 substeps none inverts, with the default material or XPBD Material = Young's Modulus
     (compliances from E per tet), which is checked. No point is below the floor in any of them.
+    Every frame counts its inverted tets (field data InvertedTets) and one that has any warns
+    with the remedy (Substeps), which is checked in (a) and (b).
 (b) Mass-Spring on the same ellipsoid: no inverted tet (the issue saw 926 on `spot`, which
     takes 10 s per 0.2 s here and stands on hooves small enough to crush at E = 1e5 Pa).
 (c) Voxelized `spot` and `bunny_10k.obj` (shared data; skipped when absent) under XPBD: the
@@ -42,6 +44,19 @@ def inverted(mesh):
     return int((sbt.cell_array(mesh, "VolumeRatio") <= 0.0).sum())
 
 
+def check_inversion_report(body, found, label, remedy):
+    """Every frame counts its inverted tets in field data InvertedTets, and a frame with any
+    carries the warning with the method's remedy; one without carries no such warning."""
+    for t, count in zip((0.04, 0.2), found):
+        mesh = sbt.output_at(body, t)
+        reported = sbt.field_value(mesh, "InvertedTets")
+        warnings = sbt.field_value(mesh, "Warnings") or ""
+        sbt.check(reported == count, f"{label}, t = {t} s: InvertedTets {reported} is the count of VolumeRatio <= 0 ({count})")
+        warned = f"{count} of " in warnings and "tets are inverted" in warnings and remedy in warnings
+        sbt.check(warned == (count > 0), f"{label}, t = {t} s: the inversion warning with its remedy is there "
+                  f"exactly when a tet is inverted ({count}; warnings: {warnings!r})")
+
+
 def on_floor(source):
     """`source` moved up or down so that its lowest point is on the floor z = 0."""
     source.UpdatePipeline()
@@ -67,6 +82,7 @@ for label, props in [("XPBD defaults", dict(Method="XPBD")),
     body = SoftBody(Input=tets, EndTime=0.2, FrameInterval=0.04, **props)
     found = [inverted(sbt.output_at(body, t)) for t in (0.04, 0.2)]
     lowest = builtins.min(float(sbt.points_of(sbt.output_at(body, t))[:, 2].min()) for t in (0.04, 0.2))
+    check_inversion_report(body, found, label, "Raise Substeps")
     print(f"(a) {label}: ellipsoid of {count} tets resting on the floor: {found[0]} inverted after "
           f"0.04 s, {found[1]} after 0.2 s (issue 14: 2,704 and 9,200); lowest point z = {lowest:.2e} m")
     if "substeps" in label:
@@ -80,6 +96,7 @@ for label, props in [("XPBD defaults", dict(Method="XPBD")),
 coarse = ellipsoid_tets(24)   # mass-spring's explicit step is short: a coarser mesh
 body = SoftBody(Input=coarse, Method="Mass-Spring", EndTime=0.2, FrameInterval=0.04)
 found = [inverted(sbt.output_at(body, t)) for t in (0.04, 0.2)]
+check_inversion_report(body, found, "Mass-Spring", "raise YoungsModulus")
 print(f"(b) Mass-Spring: ellipsoid of {sbt.output_at(coarse, 0.0).GetNumberOfCells()} tets on the "
       f"floor: {found[0]} inverted after 0.04 s, {found[1]} after 0.2 s")
 sbt.check(found == [0, 0], "(b) Mass-Spring: no tet inverts at floor contact")
