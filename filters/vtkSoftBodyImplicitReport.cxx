@@ -58,9 +58,10 @@ std::string vtkSoftBodyImplicitReport::Warning(
   }
   std::ostringstream message;
   message << c.unconvergedSteps << " of " << c.steps << " " << integrator
-          << " steps stopped at ImplicitMaxIterations = " << maxIterations
-          << " above ImplicitTolerance (last residual " << c.residual
-          << "): those steps are not accurate. Raise ImplicitMaxIterations";
+          << " steps did not converge: they ended above ImplicitTolerance (last residual "
+          << c.residual << "), stopped at ImplicitMaxIterations = " << maxIterations
+          << " or where no step length lowered the energy any further (the precision floor of a "
+             "stiff body). Those steps are not accurate. Raise ImplicitMaxIterations";
   if (std::string(integrator) == "Projective Dynamics")
   {
     message << ", or use Implicit Euler, whose Newton iterations handle stiff materials "

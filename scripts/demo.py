@@ -94,8 +94,8 @@ def build_pipeline(pvs, args, input_file):
         # Projective Dynamics at 2 ms: its numerical damping calms the jellies' wobble, which at
         # Euler-Cromer's stable step makes them slip off each other and tumble away (contact
         # friction acts per point on that point's own load, which the wobble keeps changing).
-        # Even so the upper two slide off the lower one's rounded top, and the implicit floor
-        # is frictionless (README), so they slide on across the floor.
+        # Even so the upper two slide off the lower one's rounded top; the floor's friction
+        # (in the implicit solve, README) stops them within a metre of the block.
         body = pvs.SoftBody(registrationName="SoftBody", Input=bodies, Obstacles=[block],
                             Collisions="Obstacles + Bodies", Integrator="Projective Dynamics",
                             TimeStep=0.002, StaticFriction=0.6, DynamicFriction=0.5, EndTime=2.0)

@@ -1475,8 +1475,8 @@ int main(int argc, char** argv)
   }
   if (wanted("incline"))
   {
-    notes.push_back("incline: every method; the implicit integrators' floor is frictionless (it is in "
-                    "their solve), so their rows slide freely");
+    notes.push_back("incline: every method; the implicit integrators hold the floor in their solve and "
+                    "apply Coulomb friction to the points it holds (stuck points fixed in the next solve)");
     runScene(inclineScene(30.0, 0.3, false));
     runScene(inclineScene(20.0, 0.5, true));
   }

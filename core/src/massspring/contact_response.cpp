@@ -1,5 +1,6 @@
 #include "softbody/massspring/contact_response.h"
 
+#include "softbody/collision/coulomb_friction.h"
 #include "softbody/common/parallel.h"
 
 #include <algorithm>
@@ -96,19 +97,9 @@ bool resolveContact(const Contact& contact, const CollisionSettings& settings,
   // upper one up through the projection); against a static surface both are g h per step.
   const double normalChange = normalSpeed < 0.0 ? -(1.0 + settings.restitution) * normalSpeed : 0.0;
   const double normalPush = std::max(normalChange, -C / h);
-  const Vec3 tangential = relative - normalSpeed * n;
-  const double slipSpeed = tangential.norm();
-  // Without static friction nothing sticks (the slip revert below would be friction).
-  const bool sticks = settings.staticFriction > 0.0 && slipSpeed <= settings.staticFriction * normalPush;
-  Vec3 change = normalChange * n;
-  if (sticks)
-  {
-    change -= tangential;
-  }
-  else if (slipSpeed > 0.0)
-  {
-    change -= std::min(1.0, settings.dynamicFriction * normalPush / slipSpeed) * tangential;
-  }
+  bool sticks = false;
+  const Vec3 change =
+    normalChange * n + coulombFrictionChange(relative - normalSpeed * n, normalPush, settings, sticks);
   for (int j = 0; j < t.count; ++j)
   {
     v[t.index[j]] += (t.coefficient[j] * w[t.index[j]] / W) * change;

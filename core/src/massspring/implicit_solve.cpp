@@ -1,5 +1,7 @@
 #include "softbody/massspring/implicit_solve.h"
 
+#include "softbody/collision/coulomb_friction.h"
+
 #include "softbody/common/parallel.h"
 #include "softbody/common/stepping.h"
 
@@ -43,6 +45,7 @@ ImplicitStepSolver::ImplicitStepSolver(
   , GravityNorm(scene.gravity.norm())
   , Floor(scene.floorEnabled)
   , FloorOrigin(scene.floor.origin)
+  , Friction(scene.collisions)
 {
   Filter.normal = scene.floor.normal.normalized();
 }
@@ -129,6 +132,12 @@ double ImplicitStepSolver::floorReach() const
     [](double a, double b) { return std::min(a, b); });
 }
 
+bool ImplicitStepSolver::withinFrictionCone(const Vec3& force) const
+{
+  const double normal = force.dot(Filter.normal);
+  return normal > 0.0 && (force - normal * Filter.normal).norm() <= Friction.staticFriction * normal;
+}
+
 std::size_t ImplicitStepSolver::release()
 {
   return parallelReduce(
@@ -141,6 +150,15 @@ std::size_t ImplicitStepSolver::release()
         Gradient[i].dot(Filter.normal) * Potential.inverseMass(i) < -Goal)
       {
         Filter.motion[i] = PointMotion::Free;
+        return 1;
+      }
+      // Stuck by static friction, and the force that takes has left the friction cone (it
+      // is pulled off the floor, or along it harder than staticFriction times the push): it
+      // slides from here on, in this solve.
+      if (Stuck[i] && !withinFrictionCone(Gradient[i]))
+      {
+        Stuck[i] = 0;
+        Filter.motion[i] = PointMotion::OnPlane;
         return 1;
       }
       return 0;
@@ -302,6 +320,15 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
         break; // without contact the prediction is always the better start
       }
     }
+    Stuck.resize(X.size(), 0);
+    for (std::size_t i = 0; Floor && i < X.size(); ++i)
+    {
+      if (Stuck[i])
+      {
+        X[i] = state.positions[i]; // where static friction holds it (on the floor)
+        Filter.motion[i] = PointMotion::Fixed;
+      }
+    }
     evaluateAtX();
   }
   Reference = Potential.referenceAcceleration(GravityNorm);
@@ -337,19 +364,44 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
   c.iterationsTotal += static_cast<unsigned long long>(c.iterations);
 
   parallelFor(X.size(), 4096, [&](std::size_t i) {
-    if (Filter.motion[i] == PointMotion::Fixed)
+    if (Filter.motion[i] == PointMotion::Fixed && !Stuck[i])
     {
-      return;
+      return; // pinned
     }
-    Vec3 v = (X[i] - state.positions[i]) / h;
-    if (Filter.motion[i] == PointMotion::OnPlane)
-    {
-      // Inelastic contact: a point held on the floor keeps no speed into it.
-      v -= std::min(0.0, v.dot(Filter.normal)) * Filter.normal;
-    }
-    state.velocities[i] = v;
+    state.velocities[i] = endVelocity(i, h, state.positions);
     state.positions[i] = X[i];
   });
+}
+
+Vec3 ImplicitStepSolver::endVelocity(std::size_t i, double h, const std::vector<Vec3>& start)
+{
+  const Vec3& n = Filter.normal;
+  if (Stuck[i])
+  {
+    // Held in place through the solve (release() frees it during the solve once the force it
+    // takes leaves the friction cone; this is the final check).
+    Stuck[i] = withinFrictionCone(Gradient[i]) ? 1 : 0;
+    return Vec3::Zero();
+  }
+  Vec3 v = (X[i] - start[i]) / h;
+  if (Filter.motion[i] != PointMotion::OnPlane)
+  {
+    return v;
+  }
+  // Inelastic contact: a point held on the floor keeps no speed into it.
+  v -= std::min(0.0, v.dot(n)) * n;
+  // Coulomb friction on its slip (the floor inside the solve only holds points on the plane):
+  // the plane's push over the step is the normal part of the potential's gradient at the
+  // solution (the force the filter keeps the point from following), as a speed h F_n / m. The
+  // slip of the step changes with the velocity; a point that sticks stays where the step began
+  // and is held there through the next solves (Stuck) rather than put back after each, which
+  // would strain a stiff body anew every step.
+  const double push = h * std::max(0.0, Gradient[i].dot(n)) * Potential.inverseMass(i);
+  bool sticks = false;
+  const Vec3 change = coulombFrictionChange(v - v.dot(n) * n, push, Friction, sticks);
+  X[i] += h * change;
+  Stuck[i] = sticks ? 1 : 0;
+  return v + change;
 }
 
 } // namespace softbody

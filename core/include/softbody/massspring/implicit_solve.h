@@ -67,12 +67,19 @@ private:
   double filteredResidual(const std::vector<Vec3>& gradient, const std::vector<PointMotion>& motion);
   /// Puts the free points of `x` that lie below the floor on it, held (OnPlane) in `motion`.
   std::size_t capture(std::vector<Vec3>& x, std::vector<PointMotion>& motion) const;
-  /// Releases held points the floor would have to pull down.
+  /// Releases held points the floor would have to pull down, and stuck points whose force has
+  /// left the friction cone.
   std::size_t release();
+  /// Whether the floor can give a stuck point `force` (the potential's gradient there): a push,
+  /// with a tangential part of at most staticFriction times it.
+  bool withinFrictionCone(const Vec3& force) const;
   /// Holds free points on (or all but on) the floor that the search direction drives into it.
   std::size_t holdPointsOnTheFloorPath();
   /// The longest step length (<= 1) along the direction before a free point crosses the floor.
   double floorReach() const;
+  /// After the solve: point i's velocity from its motion over the step (0 for a stuck point),
+  /// with the floor's contact response (inelastic, Coulomb friction) for a point held on it.
+  Vec3 endVelocity(std::size_t i, double h, const std::vector<Vec3>& start);
 
   IncrementalPotential& Potential;
   ImplicitSettings Settings;
@@ -80,6 +87,10 @@ private:
   double GravityNorm;
   bool Floor;
   Vec3 FloorOrigin;
+  CollisionSettings Friction; ///< the floor's static and dynamic friction
+  /// Points that static friction holds where they are on the floor: fixed through the next
+  /// step's solve, then kept while the force that took stays within the friction cone.
+  std::vector<char> Stuck;
   MotionFilter Filter;
   std::vector<PointMotion> TrialMotion;
   bool Restart = true;
