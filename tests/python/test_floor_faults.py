@@ -3,20 +3,17 @@ meets them (test_floor_start.py covers the torus started half below the floor; t
 cover the core kernels). Every number checked is printed.
 
 (a) XPBD ellipsoid (Tetrahedralize Surface of a scaled Sphere) resting on the floor: inverted
-    tets (VolumeRatio <= 0) after 0.04 s and 0.2 s. The issue saw 2,704 and 9,200. Two
-    projections keep tets from crushing: a tet below a tenth of its rest volume is projected as
-    a hard inequality (pbd_kernels.h), and after the contacts, which come last in each
-    iteration and would flatten the bottom layer again, a tet with a corner held by the floor
-    is raised back to that volume without moving into the floor (pbd_held_tets.cpp). At the
-    defaults a few remain (checked: at most a hundredth of the issue's): at one substep of
-    8 ms with 10 Gauss-Seidel iterations the solve does not carry the floor's support up
-    through the body within a step, and the default XPBD Volume Compliance is one value for
-    every tet (m^3/Pa), which makes small tets soft (bulk modulus V0 / alpha: 10 Pa for a
-    1 mm^3 tet), and the contact region of a fine mesh is small tets. They are printed; with
-    4 substeps none inverts, with the default material or XPBD Material = Young's Modulus
-    (compliances from E per tet), which is checked. No point is below the floor in any of them.
-    Every frame counts its inverted tets (field data InvertedTets) and one that has any warns
-    with the remedy (Substeps), which is checked in (a) and (b).
+    tets (VolumeRatio <= 0) after 0.04 s and 0.2 s. The issue saw 2,704 and 9,200; none now, at
+    the defaults (10 iterations x 1 substep) and with 4 substeps, with the default material or
+    XPBD Material = Young's Modulus (compliances from E per tet). Three measures keep tets from
+    crushing: a tet below a tenth of its rest volume is projected as a hard inequality
+    (pbd_kernels.h); while a tet with a corner held by the floor is still inverted after the
+    global iterations, the contact region alone is iterated on, bottom up; and after the
+    contacts, which come last in each iteration and would flatten the bottom layer again, a held
+    tet is raised back to the least volume without moving into the floor (pbd_held_tets.cpp).
+    No point is below the floor in any run. Every frame counts its inverted tets (field data
+    InvertedTets) and one that has any warns with the remedy (Substeps): checked here, with a
+    run of 2 iterations that leaves some.
 (b) Mass-Spring on the same ellipsoid: no inverted tet (the issue saw 926 on `spot`, which
     takes 10 s per 0.2 s here and stands on hooves small enough to crush at E = 1e5 Pa).
 (c) Voxelized `spot` and `bunny_10k.obj` (shared data; skipped when absent) under XPBD: the
@@ -78,18 +75,19 @@ tets = ellipsoid_tets(48)
 count = sbt.output_at(tets, 0.0).GetNumberOfCells()
 for label, props in [("XPBD defaults", dict(Method="XPBD")),
                      ("XPBD, 4 substeps", dict(Method="XPBD", Substeps=4)),
-                     ("XPBD, Young's modulus, 4 substeps", dict(Method="XPBD", XPBDMaterial="Young's Modulus", Substeps=4))]:
+                     ("XPBD, Young's modulus, 4 substeps", dict(Method="XPBD", XPBDMaterial="Young's Modulus", Substeps=4)),
+                     ("XPBD, 2 iterations", dict(Method="XPBD", Iterations=2))]:
     body = SoftBody(Input=tets, EndTime=0.2, FrameInterval=0.04, **props)
     found = [inverted(sbt.output_at(body, t)) for t in (0.04, 0.2)]
     lowest = builtins.min(float(sbt.points_of(sbt.output_at(body, t))[:, 2].min()) for t in (0.04, 0.2))
     check_inversion_report(body, found, label, "Raise Substeps")
     print(f"(a) {label}: ellipsoid of {count} tets resting on the floor: {found[0]} inverted after "
           f"0.04 s, {found[1]} after 0.2 s (issue 14: 2,704 and 9,200); lowest point z = {lowest:.2e} m")
-    if "substeps" in label:
-        sbt.check(found == [0, 0], f"(a) {label}: no tet inverts at floor contact")
+    if "2 iterations" in label:
+        # Far from converged: some tets stay inverted, which is what the report is for.
+        sbt.check(found[1] > 0, f"(a) {label}: the under-iterated solve leaves inverted tets to report")
     else:
-        sbt.check(found[0] <= 2704 // 100 and found[1] <= 9200 // 100,
-                  f"(a) {label}: at most a hundredth of the issue's inverted tets (2,704 and 9,200)")
+        sbt.check(found == [0, 0], f"(a) {label}: no tet inverts at floor contact")
     sbt.check(lowest >= 0.0, f"(a) {label}: no point below the floor")
     Delete(body)
 

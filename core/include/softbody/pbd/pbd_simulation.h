@@ -105,6 +105,11 @@ private:
   void collectHeldTets();
   std::size_t uncrushHeldTets(); ///< one pass; returns how many tets it corrected
   void finishHeldTets();         ///< passes after the last iteration, until none is corrected
+  /// The contact region: the held tets and every link at their corners, iterated again with
+  /// the contacts while a held tet stays inverted (pbd_held_tets.cpp).
+  void collectRegionLinks();
+  bool contactRegionInverted() const;
+  void iterateContactRegion();
   double contactResidual() const;
   void applyContactResponse(double h);
   void applyBodyRestitution(double h);
@@ -160,6 +165,10 @@ private:
   std::vector<std::int32_t> HeldPoints;      ///< points with obstacle contacts this substep
   std::vector<std::int32_t> HeldTets;        ///< stored tets with a held corner, in input order
   std::vector<std::int32_t> InputTetOf;      ///< stored tet -> input tet (empty: the same)
+  Csr PointLinks;                        ///< point -> slots 2 l + end of the stored links
+  std::vector<std::int32_t> RegionLinks; ///< links at the held tets' corners, bottom up
+  std::vector<std::int32_t> RegionTets;  ///< the held tets, bottom up
+  std::vector<char> LinkInRegion;        ///< scratch of collectRegionLinks
   double SubstepTime = 0.0;              ///< start of the current substep [s]
   double SubstepStep = 0.0;              ///< its length [s]
   std::vector<Vec3> JacobiScratch;
