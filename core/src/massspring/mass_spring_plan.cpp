@@ -37,6 +37,14 @@ void addIntegration(StepPlan& plan, const SceneSettings& scene, bool hasVolumeTe
   }
 }
 
+/// The implicit integrators' floor: held in the solve, with Coulomb friction after it
+/// (implicit_solve.cpp) unless both coefficients are 0.
+const char* implicitFloorLabel(const CollisionSettings& contact)
+{
+  return contact.staticFriction > 0.0 || contact.dynamicFriction > 0.0 ? "active set in the solve, with friction"
+                                                                        : "active set in the solve, frictionless";
+}
+
 } // namespace
 
 StepPlan planMassSpring(const MassSpringSetup& setup)
@@ -46,7 +54,7 @@ StepPlan planMassSpring(const MassSpringSetup& setup)
   addIntegration(plan, scene, setup.constants.hasVolumeTerm);
   if (scene.floorEnabled)
   {
-    plan.add(Stage::Floor, isImplicit(scene.integrator) ? "active set in the solve" : "");
+    plan.add(Stage::Floor, isImplicit(scene.integrator) ? implicitFloorLabel(scene.collisions) : "");
   }
   plan.add(Stage::DivergenceCheck);
   return plan;
@@ -62,7 +70,7 @@ StepPlan planMassSpring(const SceneSettings& scene, bool hasVolumeTerm, bool has
   // else they touch is resolved after the step like the explicit integrators' contacts.
   if (collides && implicit && scene.floorEnabled)
   {
-    plan.add(Stage::Floor, "active set in the solve");
+    plan.add(Stage::Floor, implicitFloorLabel(scene.collisions));
   }
   const bool bodies = scene.collisions.mode == CollisionMode::ObstaclesAndBodies ||
     scene.collisions.mode == CollisionMode::ObstaclesBodiesAndSelf;
