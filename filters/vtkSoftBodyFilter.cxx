@@ -897,6 +897,7 @@ void vtkSoftBodyFilter::FillMesh(
   // input that mixes tets with other cells maps them through the adapter (NaN for non-tets).
   std::vector<double> ratios = simulation.tetVolumeRatios();
   const std::size_t tetCount = ratios.size();
+  const std::size_t inverted = vtkSoftBodyInversionReport::Count(ratios, this->Internals->Pbd);
   if (this->Internals->Pbd && !ratios.empty())
   {
     ratios = this->Internals->PbdAdapter.PerInputCell(ratios, input->GetNumberOfCells());
@@ -905,7 +906,6 @@ void vtkSoftBodyFilter::FillMesh(
   if (static_cast<vtkIdType>(ratios.size()) == input->GetNumberOfCells())
   {
     output->GetCellData()->AddArray(MakeScalarArray("VolumeRatio", ratios));
-    const std::size_t inverted = vtkSoftBodyInversionReport::Count(ratios);
     vtkSoftBodyInversionReport::AddField(inverted, output->GetFieldData());
     inversionWarning = vtkSoftBodyInversionReport::Warning(
       inverted, tetCount, simulation.time(), this->P);

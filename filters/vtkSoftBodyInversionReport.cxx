@@ -4,15 +4,18 @@
 #include <vtkIdTypeArray.h>
 #include <vtkNew.h>
 
-#include <algorithm>
 #include <sstream>
 
 //------------------------------------------------------------------------------
-std::size_t vtkSoftBodyInversionReport::Count(const std::vector<double>& ratios)
+std::size_t vtkSoftBodyInversionReport::Count(
+  const std::vector<double>& ratios, const softbody::PbdSimulation* pbd)
 {
-  // NaN (not a tet) compares false: not counted.
-  return static_cast<std::size_t>(
-    std::count_if(ratios.begin(), ratios.end(), [](double ratio) { return ratio <= 0.0; }));
+  std::size_t inverted = 0;
+  for (std::size_t t = 0; t < ratios.size(); ++t)
+  {
+    inverted += ratios[t] <= 0.0 && !(pbd && pbd->tetBroken(t)) ? 1 : 0;
+  }
+  return inverted;
 }
 
 //------------------------------------------------------------------------------

@@ -5,16 +5,18 @@
  * A tet whose VolumeRatio is <= 0 is inverted. Every output frame carries the count as field
  * data "InvertedTets"; the first frame that has any becomes a warning, with what limits the
  * method there and what to change, so a run that crushes its tets does not do so silently.
- * (The inverted tets of issue 14's resting ellipsoid were the floor's contacts flattening the
- * bottom layer; those are gone. What remains at PBD/XPBD's default 10 iterations x 1 substep
- * is the solve not carrying a resting body's support up through it within one step: a few
- * small tets near the contact, none with 4 substeps. Mass-spring's springs and linear volume
- * term do not bar inversion when the load is large against YoungsModulus.)
+ * (On issue 14's resting ellipsoid the contacts flattened the bottom layer and then the solve
+ * left small tets near the contact unconverged; both are handled in core now, and what a run
+ * still inverts - too few iterations or substeps for its load, a per-tet Young's modulus at one
+ * substep, a mass-spring material too soft for its load - is said here. Tets a breaking run has
+ * broken are not counted: they no longer hold their volume.)
  */
 #ifndef vtkSoftBodyInversionReport_h
 #define vtkSoftBodyInversionReport_h
 
 #include "vtkSoftBodyFilter.h"
+
+#include "softbody/pbd/pbd_simulation.h"
 
 #include <string>
 #include <vector>
@@ -23,8 +25,9 @@ class vtkFieldData;
 
 struct vtkSoftBodyInversionReport
 {
-  /// How many of `ratios` (one per tet; NaN for cells that are not tets) are <= 0.
-  static std::size_t Count(const std::vector<double>& ratios);
+  /// How many of `ratios` (one per tet, in the simulation's tet order) are <= 0, leaving out
+  /// the tets `pbd` (null for mass-spring) has broken.
+  static std::size_t Count(const std::vector<double>& ratios, const softbody::PbdSimulation* pbd);
   /// Adds field data "InvertedTets" (the count) to `field`.
   static void AddField(std::size_t inverted, vtkFieldData* field);
   /// Empty when nothing is inverted; else the count at `time`, the cause and the remedy for

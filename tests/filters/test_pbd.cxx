@@ -125,6 +125,16 @@ int main()
     SB_CHECK(column->GetCellGhostArray() == nullptr, "the input is not modified");
     vtkDataArray* ratio = f.Mesh()->GetCellData()->GetArray("VolumeRatio");
     SB_CHECK(ratio != nullptr, "VolumeRatio present");
+    // InvertedTets counts the inverted tets that still hold their volume, not broken ones.
+    vtkIdType invertedWhole = 0;
+    for (vtkIdType c = 0; ratio && broken && c < f.Mesh()->GetNumberOfCells(); ++c)
+    {
+      invertedWhole += ratio->GetTuple1(c) <= 0.0 && broken->GetTuple1(c) == 0.0 ? 1 : 0;
+    }
+    vtkDataArray* reported = f.Mesh()->GetFieldData()->GetArray("InvertedTets");
+    SB_CHECK(reported && reported->GetTuple1(0) == static_cast<double>(invertedWhole),
+      "InvertedTets " << (reported ? reported->GetTuple1(0) : -1.0) << " counts the unbroken inverted tets ("
+                      << invertedWhole << ")");
     for (vtkIdType c = 0; ratio && c < f.Mesh()->GetNumberOfCells(); ++c)
     {
       const vtkIdType* ids = nullptr;

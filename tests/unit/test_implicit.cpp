@@ -524,6 +524,40 @@ TEST(ImplicitIntegrators, FloorFrictionGivesCoulombOnATiltedFloor)
   }
 }
 
+// Collisions Off means nothing is collided with, the floor included, for the implicit
+// integrators as for the explicit ones and PBD: a body resting on the floor falls through it.
+TEST(ImplicitIntegrators, CollisionsOffLeaveTheFloorOut)
+{
+  for (Integrator integrator : kImplicit)
+  {
+    for (CollisionMode mode : { CollisionMode::Obstacles, CollisionMode::Off })
+    {
+      BodyDescription body;
+      body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 0.01));
+      SceneSettings scene;
+      scene.integrator = integrator;
+      scene.floorEnabled = true;
+      scene.collisions.mode = mode;
+      MassSpringSimulation sim(body, scene);
+      sim.advance(0.5);
+      double lowest = 1e9;
+      for (const Vec3& p : sim.positions())
+      {
+        lowest = std::min(lowest, p.z());
+      }
+      // Free fall for 0.5 s drops g t^2 / 2 = 1.23 m (backward Euler a little more).
+      if (mode == CollisionMode::Off)
+      {
+        EXPECT_LT(lowest, -1.0) << integratorName(integrator);
+      }
+      else
+      {
+        EXPECT_GT(lowest, 0.0) << integratorName(integrator);
+      }
+    }
+  }
+}
+
 TEST(ImplicitIntegrators, OutOfRangeSettingsAreRefusedQuotingTheValue)
 {
   BodyDescription body;

@@ -74,6 +74,9 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
   // A contact keeps the collision margin, the floor's too: the implicit solve holds points on
   // the plane lifted by it, so every integrator rests at the same height.
   SceneSettings solveScene = Scene;
+  // With Collisions Off nothing is collided with, the floor included (as for the explicit
+  // integrators and PBD, and as the plan says).
+  solveScene.floorEnabled = Scene.floorEnabled && Scene.collisions.mode != CollisionMode::Off;
   if (Detector && solveScene.floorEnabled)
   {
     solveScene.floor.origin += Detector->margin() * solveScene.floor.normal;

@@ -81,7 +81,7 @@ void PbdSimulation::collectHeldTets()
   }
 }
 
-void PbdSimulation::collectRegionLinks()
+void PbdSimulation::collectContactRegion()
 {
   RegionLinks.clear();
   for (std::int32_t t : HeldTets)
@@ -208,7 +208,7 @@ void PbdSimulation::finishHeldTets()
   constexpr int kRegionIterations = 20;
   if (contactRegionInverted())
   {
-    collectRegionLinks(); // only when needed: a resting body that converged pays nothing more
+    collectContactRegion(); // only when needed: a resting body that converged pays nothing more
     for (int round = 0; round < kRegionIterations && contactRegionInverted(); ++round)
     {
       iterateContactRegion();

@@ -107,7 +107,7 @@ private:
   void finishHeldTets();         ///< passes after the last iteration, until none is corrected
   /// The contact region: the held tets and every link at their corners, iterated again with
   /// the contacts while a held tet stays inverted (pbd_held_tets.cpp).
-  void collectRegionLinks();
+  void collectContactRegion();
   bool contactRegionInverted() const;
   void iterateContactRegion();
   double contactResidual() const;
@@ -168,7 +168,7 @@ private:
   Csr PointLinks;                        ///< point -> slots 2 l + end of the stored links
   std::vector<std::int32_t> RegionLinks; ///< links at the held tets' corners, bottom up
   std::vector<std::int32_t> RegionTets;  ///< the held tets, bottom up
-  std::vector<char> LinkInRegion;        ///< scratch of collectRegionLinks
+  std::vector<char> LinkInRegion;        ///< scratch of collectContactRegion
   double SubstepTime = 0.0;              ///< start of the current substep [s]
   double SubstepStep = 0.0;              ///< its length [s]
   std::vector<Vec3> JacobiScratch;
