@@ -78,15 +78,7 @@ void ConvertMassSpring(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSe
     scene.implicit.tolerance = p.ImplicitTolerance;
     scene.implicit.maxIterations = p.ImplicitMaxIterations;
   }
-  scene.gravity = ToVec3(p.Gravity);
-  scene.collisions = vtkSoftBodySettings::Collisions(p);
-  // Collisions Off means no contact at all, the floor included.
-  scene.floorEnabled = p.Floor != 0 && scene.collisions.mode != softbody::CollisionMode::Off;
-  if (scene.floorEnabled)
-  {
-    scene.floor.origin = ToVec3(p.FloorOrigin);
-    scene.floor.normal = ToVec3(p.FloorNormal);
-  }
+  static_cast<softbody::Scene&>(scene) = vtkSoftBodySettings::Scene(p);
   scene.strainLimit = p.StrainLimit;
   if (p.StrainLimit != 0.0)
   {
@@ -129,15 +121,8 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
   s.iterations = p.Iterations;
   s.residualTolerance = p.ResidualTolerance;
   s.relaxation = p.Relaxation;
-  s.gravity = ToVec3(p.Gravity);
+  static_cast<softbody::Scene&>(s) = vtkSoftBodySettings::Scene(p);
   s.damping = p.VelocityDamping;
-  s.collisions = vtkSoftBodySettings::Collisions(p);
-  s.floorEnabled = p.Floor != 0;
-  if (s.floorEnabled)
-  {
-    s.floor.origin = ToVec3(p.FloorOrigin);
-    s.floor.normal = ToVec3(p.FloorNormal);
-  }
   // Each formulation reads only its own constants: PBD stiffnesses, XPBD compliances (or
   // Young's modulus), so the other's properties do not invalidate the cache.
   if (xpbd)
@@ -172,25 +157,47 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
 } // namespace
 
 //------------------------------------------------------------------------------
+// The Integrator property's values are core's enumeration (the XML lists them in this order).
+static_assert(vtkSoftBodyFilter::EULER == int(softbody::Integrator::Euler) &&
+    vtkSoftBodyFilter::MIDPOINT == int(softbody::Integrator::Midpoint) &&
+    vtkSoftBodyFilter::VERLET == int(softbody::Integrator::Verlet) &&
+    vtkSoftBodyFilter::EULER_CROMER == int(softbody::Integrator::EulerCromer) &&
+    vtkSoftBodyFilter::IMPLICIT_EULER == int(softbody::Integrator::ImplicitEuler) &&
+    vtkSoftBodyFilter::PROJECTIVE_DYNAMICS == int(softbody::Integrator::ProjectiveDynamics),
+  "the Integrator property's values must be core's Integrator values");
+
 softbody::Integrator vtkSoftBodySettings::Integrator(int integrator)
 {
-  switch (Choice("Integrator", integrator, 6,
-    "0 (Euler), 1 (Midpoint), 2 (Verlet), 3 (Euler-Cromer), 4 (Implicit Euler), 5 (Projective "
-    "Dynamics)"))
+  const auto table = softbody::integratorTable();
+  std::string choices;
+  for (const softbody::IntegratorFacts& facts : table)
   {
-    case vtkSoftBodyFilter::IMPLICIT_EULER:
-      return softbody::Integrator::ImplicitEuler;
-    case vtkSoftBodyFilter::PROJECTIVE_DYNAMICS:
-      return softbody::Integrator::ProjectiveDynamics;
-    case vtkSoftBodyFilter::EULER:
-      return softbody::Integrator::Euler;
-    case vtkSoftBodyFilter::MIDPOINT:
-      return softbody::Integrator::Midpoint;
-    case vtkSoftBodyFilter::VERLET:
-      return softbody::Integrator::Verlet;
-    default:
-      return softbody::Integrator::EulerCromer;
+    choices += (choices.empty() ? "" : ", ") + std::to_string(int(facts.integrator)) + " (" +
+      facts.name + ")";
   }
+  return static_cast<softbody::Integrator>(
+    Choice("Integrator", integrator, static_cast<int>(table.size()), choices.c_str()));
+}
+
+//------------------------------------------------------------------------------
+softbody::Scene vtkSoftBodySettings::Scene(const vtkSoftBodyFilter::Parameters& p)
+{
+  softbody::Scene scene;
+  scene.gravity = ToVec3(p.Gravity);
+  scene.collisions = vtkSoftBodySettings::Collisions(p);
+  scene.floorEnabled = p.Floor != 0;
+  if (scene.floorActive())
+  {
+    scene.floor.origin = ToVec3(p.FloorOrigin);
+    scene.floor.normal = ToVec3(p.FloorNormal);
+  }
+  else
+  {
+    // A floor nothing touches is not read: leaving it at its default keeps the cache when only
+    // the Floor properties change.
+    scene.floorEnabled = false;
+  }
+  return scene;
 }
 
 //------------------------------------------------------------------------------
@@ -198,7 +205,7 @@ softbody::CollisionSettings vtkSoftBodySettings::Collisions(const vtkSoftBodyFil
 {
   softbody::CollisionSettings collisions;
   collisions.mode = CoreCollisionMode(p.Collisions);
-  if (collisions.mode == softbody::CollisionMode::Off)
+  if (!collisions.on())
   {
     return collisions; // nothing collides: the other values are not read (nor key the cache)
   }

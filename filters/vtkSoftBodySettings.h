@@ -58,6 +58,10 @@ void ValidateTimes(const vtkSoftBodyFilter::Parameters& p);
 /// The mass-spring material (Mass-Spring, and Mesh Quality's stability report).
 softbody::MaterialSettings Material(const vtkSoftBodyFilter::Parameters& p);
 
+/// The scene shared by every method: Gravity, Floor, FloorOrigin, FloorNormal and the contact
+/// settings; the floor plane filled only where the floor is active (so only then in the key).
+softbody::Scene Scene(const vtkSoftBodyFilter::Parameters& p);
+
 /// The contact settings shared by every method (Collisions, BroadPhase, CollisionMargin,
 /// StaticFriction, DynamicFriction, Restitution); the mode refused when out of its list.
 softbody::CollisionSettings Collisions(const vtkSoftBodyFilter::Parameters& p);

@@ -267,7 +267,7 @@ void MassSpringDevice::limitStrain(double h)
     apply.bind("Positions", Positions);
     apply.bind("Velocities", Velocities);
     // Verlet's velocity is the position difference of the last step: a moved point moves it.
-    apply.set("adjustVelocities", Scene.integrator == Integrator::Verlet);
+    apply.set("adjustVelocities", factsOf(Scene.integrator).velocityFromPositions);
     apply.set("h", h);
     apply.dispatch(VertexCount);
   }

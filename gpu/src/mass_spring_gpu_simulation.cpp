@@ -40,7 +40,7 @@ MassSpringGpuSimulation::MassSpringGpuSimulation(const BodyDescription& body, co
   Body->plan.add(Stage::Transfers);
   // The floor here is already where contacts hold points (floorPassScene): start on it as the
   // CPU stepper does.
-  if (Body->setup.scene.floorEnabled)
+  if (Body->setup.scene.floorActive())
   {
     liftBodiesOntoPlane(Body->setup.mesh, Body->setup.masses.inverseMass, Body->setup.scene.floor,
       State.positions);
@@ -185,7 +185,7 @@ const StepPlan& MassSpringGpuSimulation::stepPlan() const
 std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(
   const BodyDescription& body, const SceneSettings& scene, std::string& whyNot)
 {
-  if (isImplicit(scene.integrator))
+  if (!factsOf(scene.integrator).runsOnGpu)
   {
     // Implicit steps need a sparse linear solve per iteration; the GPU backend is explicit.
     whyNot = std::string("the GPU backend has only the explicit integrators, and ") +

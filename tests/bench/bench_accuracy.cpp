@@ -220,7 +220,7 @@ void writeCsv(const std::string& path, const std::vector<Row>& rows)
 /// A scene as both methods see it. The mass-spring body and scene, and the PBD body and
 /// settings (XPBD with the same elasticity, PBD with stiffness 1); `quantity` reads the
 /// measured value, `error` turns it into a relative error.
-struct Scene
+struct LabScene
 {
   std::string name;
   double endTime = 0.1;
@@ -265,7 +265,7 @@ PbdSettings pbdSettingsOf(const BodyDescription& body, const SceneSettings& scen
   return s;
 }
 
-SimPtr makeMassSpring(const Scene& s, Integrator integrator, double h)
+SimPtr makeMassSpring(const LabScene& s, Integrator integrator, double h)
 {
   SceneSettings scene = s.scene;
   scene.integrator = integrator;
@@ -273,7 +273,7 @@ SimPtr makeMassSpring(const Scene& s, Integrator integrator, double h)
   return std::make_unique<MassSpringSimulation>(s.body, scene);
 }
 
-SimPtr makePbd(const Scene& s, bool xpbd, PbdSolver solver, double relaxation, double h, int iterations,
+SimPtr makePbd(const LabScene& s, bool xpbd, PbdSolver solver, double relaxation, double h, int iterations,
   int substeps)
 {
   PbdSettings settings = s.pbdSettings;
@@ -288,7 +288,7 @@ SimPtr makePbd(const Scene& s, bool xpbd, PbdSolver solver, double relaxation, d
   return std::make_unique<PbdSimulation>(s.pbdBody, settings);
 }
 
-double automaticStep(const Scene& s, Integrator integrator)
+double automaticStep(const LabScene& s, Integrator integrator)
 {
   SceneSettings scene = s.scene;
   scene.integrator = integrator;
@@ -303,7 +303,7 @@ const Integrator kExplicit[] = { Integrator::Euler, Integrator::Midpoint, Integr
 /// The sweep every scene gets: explicit integrators at multiples of their automatic step,
 /// implicit ones at 1/60 s and finer, PBD/XPBD over iterations x substeps at equal budgets with
 /// every solver, 1 and 2 threads where cheap.
-std::vector<Row> sweep(const Scene& s)
+std::vector<Row> sweep(const LabScene& s)
 {
   std::vector<Row> rows;
   Row base;
@@ -483,9 +483,9 @@ double meanDisplacement(const Simulation& sim, const std::vector<std::size_t>& i
   return sum / double(ids.size());
 }
 
-Scene freeFallScene()
+LabScene freeFallScene()
 {
-  Scene s;
+  LabScene s;
   s.name = "freefall";
   s.endTime = 0.5;
   s.body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 1));
@@ -500,7 +500,7 @@ Scene freeFallScene()
 }
 
 /// Runs backward Euler with large steps until the body rests: the network's static answer.
-double staticAnswer(const Scene& s, const std::function<double(const Simulation&)>& quantity)
+double staticAnswer(const LabScene& s, const std::function<double(const Simulation&)>& quantity)
 {
   SceneSettings scene = s.scene;
   scene.integrator = Integrator::ImplicitEuler;
@@ -524,7 +524,7 @@ double staticAnswer(const Scene& s, const std::function<double(const Simulation&
 
 /// The converged dynamic reference: Midpoint at 1/16 and 1/32 of its automatic step; prints
 /// how far apart they are and returns the finer one.
-double convergedReference(const Scene& s, const std::function<double(const Simulation&)>& quantity, double scale)
+double convergedReference(const LabScene& s, const std::function<double(const Simulation&)>& quantity, double scale)
 {
   const double automatic = automaticStep(s, Integrator::Midpoint);
   double values[2];
@@ -550,7 +550,7 @@ double convergedReference(const Scene& s, const std::function<double(const Simul
 /// maxima of `quantity` (each placed by a parabola through the three samples around it; samples
 /// 1/800 of the duration apart). Only the first cycle: later ones beat (see the cantilever). 0 when
 /// it peaks fewer than twice.
-double swingPeriod(const Scene& s, const std::function<double(const Simulation&)>& quantity,
+double swingPeriod(const LabScene& s, const std::function<double(const Simulation&)>& quantity,
   double duration, double stepFactor)
 {
   SimPtr sim = makeMassSpring(s, Integrator::Midpoint, stepFactor * automaticStep(s, Integrator::Midpoint));
@@ -575,13 +575,13 @@ double swingPeriod(const Scene& s, const std::function<double(const Simulation&)
 
 struct ElasticScene
 {
-  Scene scene;
+  LabScene scene;
   std::string summary; // model error line
 };
 
 ElasticScene barScene()
 {
-  Scene s;
+  LabScene s;
   s.name = "bar";
   s.endTime = 0.2;
   const double cell = 0.02, length = 10 * cell;
@@ -613,7 +613,7 @@ ElasticScene barScene()
 
 ElasticScene cantileverScene()
 {
-  Scene s;
+  LabScene s;
   s.name = "cantilever";
   s.endTime = 0.1;
   const double cell = 0.02, L = 20 * cell, h = 2 * cell;
@@ -674,9 +674,9 @@ ElasticScene cantileverScene()
 /// A flat 3 x 3 sheet of linked particles falling level (every particle touches at once: PBD's
 /// restitution is a per-particle velocity rule, so e^2 h is its answer) or, with `cube`, a stiff tet cube, where the constraints share
 /// the bottom layer's bounce with the layers above (no closed form; reported against e^2 h).
-Scene restitutionScene(bool cube)
+LabScene restitutionScene(bool cube)
 {
-  Scene s;
+  LabScene s;
   s.name = cube ? "restitution_cube" : "restitution";
   const double h0 = 0.1, e = 0.5;
   s.endTime = 0.3;
@@ -747,9 +747,9 @@ Scene restitutionScene(bool cube)
   return s;
 }
 
-Scene inclineScene(double thetaDegrees, double mu, bool sticks)
+LabScene inclineScene(double thetaDegrees, double mu, bool sticks)
 {
-  Scene s;
+  LabScene s;
   s.name = sticks ? "incline_stick" : "incline_slide";
   s.endTime = 0.5;
   const double theta = thetaDegrees * M_PI / 180, c = std::cos(theta), sn = std::sin(theta);
@@ -857,7 +857,7 @@ TetMesh demoJelly(const std::string& path, std::string& note)
   return mesh;
 }
 
-bool meshDropScene(const DropSpec& d, TetMesh mesh, Scene& s, std::string& note)
+bool meshDropScene(const DropSpec& d, TetMesh mesh, LabScene& s, std::string& note)
 {
   if (mesh.tets.empty())
   {
@@ -1433,7 +1433,7 @@ int main(int argc, char** argv)
 
   std::map<std::string, std::vector<Row>> byScene;
   std::vector<std::string> notes;
-  auto runScene = [&](const Scene& s) {
+  auto runScene = [&](const LabScene& s) {
     std::printf("scene %s\n", s.name.c_str());
     std::vector<Row> rows = sweep(s);
     writeCsv(out + "/" + s.name + ".csv", rows);
@@ -1441,7 +1441,7 @@ int main(int argc, char** argv)
   };
   if (wanted("freefall"))
   {
-    const Scene s = freeFallScene();
+    const LabScene s = freeFallScene();
     runScene(s);
     for (const char* solver : { "Euler", "Euler-Cromer", "Implicit Euler", "Projective Dynamics" })
     {
@@ -1496,7 +1496,7 @@ int main(int argc, char** argv)
     TetMesh mesh = d == &spot
       ? publicSurfaceBody(options.dataDir + "/keenan-spot/spot_triangulated.obj", options.dataDir, 0.01, note)
       : demoJelly(std::string(SOFTBODY_PROJECT_DATA_DIR) + "/jelly.vtu", note);
-    Scene s;
+    LabScene s;
     if (meshDropScene(*d, std::move(mesh), s, note))
     {
       runScene(s);

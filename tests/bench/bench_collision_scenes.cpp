@@ -39,7 +39,7 @@ using namespace softbody;
 namespace
 {
 
-struct Scene
+struct CollisionScene
 {
   std::string name;
   PbdBody body;
@@ -75,9 +75,9 @@ PbdBody voxelBody(double h, double halfWidth, const Vec3& centre, double mass,
   return body;
 }
 
-Scene pileScene(bool smoke)
+CollisionScene pileScene(bool smoke)
 {
-  Scene scene;
+  CollisionScene scene;
   scene.name = "pile";
   const double r = 0.1, h = smoke ? 0.04 : 0.02; // bodies 0.2 m across
   for (int b = 0; b < 8; ++b)
@@ -101,9 +101,9 @@ Scene pileScene(bool smoke)
   return scene;
 }
 
-Scene clothScene(bool smoke)
+CollisionScene clothScene(bool smoke)
 {
-  Scene scene;
+  CollisionScene scene;
   scene.name = "cloth";
   ClothSpec spec;
   spec.particlesAlong1 = spec.particlesAlong2 = smoke ? 16 : 48;
@@ -133,7 +133,7 @@ struct Run
   double lowest = 0.0;    ///< lowest point at the end [m] (sanity: on the floor, not below)
 };
 
-Run runScene(const Scene& scene, int threads, bool collisions)
+Run runScene(const CollisionScene& scene, int threads, bool collisions)
 {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   PbdSettings settings = scene.settings;
@@ -166,7 +166,7 @@ Run runScene(const Scene& scene, int threads, bool collisions)
 }
 
 /// The run with the least frame time of `repeat` (other processes share the machine).
-Run best(const Scene& scene, int threads, bool collisions, int repeat)
+Run best(const CollisionScene& scene, int threads, bool collisions, int repeat)
 {
   Run fastest = runScene(scene, threads, collisions);
   for (int k = 1; k < repeat; ++k)
@@ -201,7 +201,7 @@ int main(int argc, char** argv)
   std::printf("%-6s %7s %7s %-10s %10s %10s %10s %10s %18s %9s\n", "scene", "points", "threads", "collisions", "frame ms",
     "detect ms", "contact ms", "other ms", "state hash", "lowest z");
   int status = 0;
-  for (const Scene& scene : { pileScene(options.smoke), clothScene(options.smoke) })
+  for (const CollisionScene& scene : { pileScene(options.smoke), clothScene(options.smoke) })
   {
     const Run one = best(scene, 1, true, repeat);
     const Run all = best(scene, maxThreads, true, repeat);

@@ -114,16 +114,16 @@ std::vector<std::pair<int, int>> truePairs(const std::vector<Vec3>& x, const std
 
 /// A mixed random scene: tet bodies (jittered boxes), particle bodies of two radii, moved
 /// from `start` to `predicted` by small noise plus a few fast points.
-struct Scene
+struct PointScene
 {
   CollisionGeometry geometry;
   std::vector<Vec3> start, predicted;
   std::vector<ObstacleSurface> obstacles;
 };
 
-Scene randomScene(unsigned seed, std::size_t particles, bool clustered, double radius)
+PointScene randomScene(unsigned seed, std::size_t particles, bool clustered, double radius)
 {
-  Scene scene;
+  PointScene scene;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-0.2, 0.2);
   addTetBody(scene.geometry, makeTetBox(4, 3, 2, 0.05, Vec3(u(rng), u(rng), u(rng))), 0);
@@ -153,7 +153,7 @@ Scene randomScene(unsigned seed, std::size_t particles, bool clustered, double r
   return scene;
 }
 
-ContactSet detectWith(const Scene& scene, BroadPhase kind, CollisionMode mode, double margin,
+ContactSet detectWith(const PointScene& scene, BroadPhase kind, CollisionMode mode, double margin,
   std::size_t threads, BroadPhase* used = nullptr)
 {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
@@ -339,7 +339,7 @@ TEST(BroadPhases, SameContactSetAsBruteForceOnRandomScenes)
     {
       for (double radius : { 0.004, 0.012 })
       {
-        const Scene scene = randomScene(seed, 400, clustered, radius);
+        const PointScene scene = randomScene(seed, 400, clustered, radius);
         for (CollisionMode mode : { CollisionMode::Obstacles, CollisionMode::ObstaclesAndBodies,
                CollisionMode::ObstaclesBodiesAndSelf })
         {
@@ -366,7 +366,7 @@ TEST(BroadPhases, SameContactSetAsBruteForceOnRandomScenes)
 
 TEST(BroadPhases, BitIdenticalContactsAtOneAndTwoThreads)
 {
-  const Scene scene = randomScene(9, 3000, true, 0.006);
+  const PointScene scene = randomScene(9, 3000, true, 0.006);
   for (BroadPhase kind : { BroadPhase::BruteForce, BroadPhase::UniformGrid, BroadPhase::Octree })
   {
     const ContactSet one = detectWith(scene, kind, CollisionMode::ObstaclesBodiesAndSelf, 0.0, 1);
@@ -379,12 +379,12 @@ TEST(BroadPhases, BitIdenticalContactsAtOneAndTwoThreads)
 TEST(BroadPhases, AutomaticPicksBruteForceForTinyScenesAndTheGridForLargeOnes)
 {
   BroadPhase used = BroadPhase::Automatic;
-  Scene tiny;
+  PointScene tiny;
   addParticleBody(tiny.geometry, randomPoints(20, 0.1, false, 3), 0.01, 0);
   tiny.start = tiny.predicted = tiny.geometry.rest;
   detectWith(tiny, BroadPhase::Automatic, CollisionMode::ObstaclesAndBodies, 0.0, 1, &used);
   EXPECT_EQ(used, BroadPhase::BruteForce);
-  const Scene large = randomScene(4, 3000, false, 0.004);
+  const PointScene large = randomScene(4, 3000, false, 0.004);
   detectWith(large, BroadPhase::Automatic, CollisionMode::ObstaclesAndBodies, 0.0, 1, &used);
   EXPECT_EQ(used, BroadPhase::UniformGrid);
 }

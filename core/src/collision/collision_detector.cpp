@@ -117,13 +117,12 @@ void CollisionDetector::setObstacles(std::vector<ObstacleSurface> obstacles, dou
 
 bool CollisionDetector::detectsBodies() const
 {
-  return Settings.mode == CollisionMode::ObstaclesAndBodies ||
-    Settings.mode == CollisionMode::ObstaclesBodiesAndSelf;
+  return Settings.bodiesCollide();
 }
 
 bool CollisionDetector::detectsSelf() const
 {
-  return Settings.mode == CollisionMode::ObstaclesBodiesAndSelf;
+  return Settings.selfCollides();
 }
 
 void CollisionDetector::prepareSubstep(
@@ -517,7 +516,7 @@ void CollisionDetector::detect(const std::vector<Vec3>& start, const std::vector
     throw InvalidInputError("Collision detection: " + indexText(start.size()) + " start and " +
       indexText(predicted.size()) + " predicted positions for " + indexText(Geometry.rest.size()) + " points.");
   }
-  if (Settings.mode == CollisionMode::Off)
+  if (!Settings.on())
   {
     out.clear();
     return;

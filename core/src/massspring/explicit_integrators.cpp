@@ -60,26 +60,6 @@ void kickDrift(double h, double kick, const AccelerationEvaluator& evaluator, Dy
 
 } // namespace
 
-const char* integratorName(Integrator integrator)
-{
-  switch (integrator)
-  {
-    case Integrator::Euler:
-      return "Euler";
-    case Integrator::Midpoint:
-      return "Midpoint";
-    case Integrator::Verlet:
-      return "Verlet";
-    case Integrator::EulerCromer:
-      return "Euler-Cromer";
-    case Integrator::ImplicitEuler:
-      return "Implicit Euler";
-    case Integrator::ProjectiveDynamics:
-      return "Projective Dynamics";
-  }
-  return "unknown";
-}
-
 void integrateStep(Integrator integrator, double h, const AccelerationEvaluator& evaluator,
   DynamicState& state, IntegratorScratch& scratch)
 {

@@ -43,7 +43,7 @@ ImplicitStepSolver::ImplicitStepSolver(
   , Settings(scene.implicit)
   , Search(lineSearch)
   , GravityNorm(scene.gravity.norm())
-  , Floor(scene.floorEnabled)
+  , Floor(scene.floorActive())
   , FloorOrigin(scene.floor.origin)
   , Friction(scene.collisions)
 {

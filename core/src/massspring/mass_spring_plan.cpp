@@ -12,24 +12,13 @@ void addIntegration(StepPlan& plan, const SceneSettings& scene, bool hasVolumeTe
   // The force pass walks the springs and, only when some tet has a volume stiffness or
   // damping, the tets (ElementConstants::hasVolumeTerm).
   const std::string elements = hasVolumeTerm ? "springs + volumes" : "springs";
-  switch (scene.integrator)
+  const IntegratorFacts& integrator = factsOf(scene.integrator);
+  plan.add(Stage::Forces,
+    integrator.forcesDetail ? elements + ", " + integrator.forcesDetail : elements);
+  plan.add(Stage::Integrate, integrator.name);
+  if (integrator.linearSolve)
   {
-    case Integrator::ImplicitEuler:
-      // Newton: gradient, PSD Hessian and line-search energies; then CG on the Hessian.
-      plan.add(Stage::Forces, elements + ", gradient + Hessian");
-      plan.add(Stage::Integrate, integratorName(scene.integrator));
-      plan.add(Stage::LinearSolve, "block-Jacobi PCG");
-      break;
-    case Integrator::ProjectiveDynamics:
-      // Local step: the element pass (projections = gradient); global: prefactored solves.
-      plan.add(Stage::Forces, elements + ", local step");
-      plan.add(Stage::Integrate, integratorName(scene.integrator));
-      plan.add(Stage::LinearSolve, "prefactored Cholesky");
-      break;
-    default:
-      plan.add(Stage::Forces, elements);
-      plan.add(Stage::Integrate, integratorName(scene.integrator));
-      break;
+    plan.add(Stage::LinearSolve, integrator.linearSolve);
   }
   if (scene.strainLimit > 0.0)
   {
@@ -52,7 +41,7 @@ StepPlan planMassSpring(const MassSpringSetup& setup)
   const SceneSettings& scene = setup.scene;
   StepPlan plan;
   addIntegration(plan, scene, setup.constants.hasVolumeTerm);
-  if (scene.floorEnabled)
+  if (scene.floorActive())
   {
     plan.add(Stage::Floor, isImplicit(scene.integrator) ? implicitFloorLabel(scene.collisions) : "");
   }
@@ -64,19 +53,18 @@ StepPlan planMassSpring(const SceneSettings& scene, bool hasVolumeTerm, bool has
 {
   StepPlan plan;
   addIntegration(plan, scene, hasVolumeTerm);
-  const bool collides = scene.collisions.mode != CollisionMode::Off;
   const bool implicit = isImplicit(scene.integrator);
   // The implicit integrators keep the floor in their solve (a step may not cross it); what
   // else they touch is resolved after the step like the explicit integrators' contacts.
-  if (collides && implicit && scene.floorEnabled)
+  if (implicit && scene.floorActive())
   {
     plan.add(Stage::Floor, implicitFloorLabel(scene.collisions));
   }
-  const bool bodies = scene.collisions.mode == CollisionMode::ObstaclesAndBodies ||
-    scene.collisions.mode == CollisionMode::ObstaclesBodiesAndSelf;
-  if (collides && ((!implicit && scene.floorEnabled) || hasObstacles || bodies))
+  const bool bodies = scene.collisions.bodiesCollide();
+  const bool detectedFloor = !implicit && scene.floorActive();
+  if (scene.collisions.on() && (detectedFloor || hasObstacles || bodies))
   {
-    std::string what = !implicit && scene.floorEnabled ? "floor" : "";
+    std::string what = detectedFloor ? "floor" : "";
     auto join = [&](const char* part) { what += (what.empty() ? "" : ", ") + std::string(part); };
     if (hasObstacles)
     {
@@ -84,7 +72,7 @@ StepPlan planMassSpring(const SceneSettings& scene, bool hasVolumeTerm, bool has
     }
     if (bodies)
     {
-      join(scene.collisions.mode == CollisionMode::ObstaclesBodiesAndSelf ? "bodies, self" : "bodies");
+      join(scene.collisions.selfCollides() ? "bodies, self" : "bodies");
     }
     plan.add(Stage::CollisionDetect, what);
     plan.add(Stage::Contacts, "projection + velocity response");

@@ -17,12 +17,7 @@ namespace
 void validateScene(const SceneSettings& scene)
 {
   check::nonNegative("TimeStep", scene.timeStep, "s", "automatic");
-  check::finite("Gravity", scene.gravity);
-  if (scene.floorEnabled)
-  {
-    check::finite("FloorOrigin", scene.floor.origin);
-    check::nonZeroDirection("FloorNormal", scene.floor.normal);
-  }
+  softbody::validateScene(scene);
   if (scene.strainLimit != 0.0 && !(scene.strainLimit > 1.0 && std::isfinite(scene.strainLimit)))
   {
     throw InvalidInputError("StrainLimit must be 0 (off) or a finite stretch factor > 1, got " +
@@ -61,8 +56,8 @@ void chooseStep(MassSpringSetup& s)
   s.stableStep = stableTimeStep(scene.integrator, s.omegaMax, c.minDampingTime, c.maxDampingTime);
   const double symplecticStep =
     stableTimeStep(Integrator::EulerCromer, s.omegaMax, c.minDampingTime, c.maxDampingTime);
-  s.undampedStableStep = stableTimeStep(
-    scene.integrator == Integrator::Euler ? Integrator::EulerCromer : scene.integrator, s.omegaMax, 0.0, 0.0);
+  s.undampedStableStep =
+    stableTimeStep(factsOf(scene.integrator).undampedReference, s.omegaMax, 0.0, 0.0);
   if (scene.timeStep > 0.0)
   {
     s.step = scene.timeStep;
@@ -102,10 +97,6 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
   MassSpringSetup s;
   s.scene = scene;
   validateScene(s.scene);
-  if (s.scene.collisions.mode == CollisionMode::Off)
-  {
-    s.scene.floorEnabled = false; // Collisions Off: nothing is touched, not even the floor
-  }
   if (!body.pinned.empty() && body.pinned.size() != body.mesh.points.size())
   {
     throw InvalidInputError("The pinned-point flags do not match the number of points.");
@@ -132,7 +123,7 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
   }
 
   s.scene.floor.normal.normalize();
-  if (s.scene.floorEnabled)
+  if (s.scene.floorActive())
   {
     std::size_t below = 0;
     for (const Vec3& p : s.mesh.points)
@@ -173,7 +164,7 @@ std::string longRunWarning(const StepCost& s, double duration)
     return {};
   }
   const double steps = std::ceil(duration / s.step);
-  const double evaluationsPerStep = s.integrator == Integrator::Midpoint ? 2.0 : 1.0;
+  const double evaluationsPerStep = factsOf(s.integrator).forceEvaluationsPerStep;
   const double seconds = steps * evaluationsPerStep *
     static_cast<double>(std::max<std::size_t>(1, s.tetCount)) / kTetStepsPerSecond;
   if (steps <= 1.0e6 && seconds <= 60.0)

@@ -64,45 +64,33 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
   StableStep = setup.stableStep;
   OmegaMax = setup.omegaMax;
   Warnings = std::move(setup.warnings);
-  if (Scene.collisions.mode != CollisionMode::Off)
+  if (Scene.collisions.on())
   {
     // The implicit integrators hold the floor inside their solve; the detector gets it only
     // for the explicit ones. Throws InvalidInputError for a bad margin, friction, restitution.
-    Detector = std::make_unique<CollisionDetector>(tetBodyGeometry(Mesh, Scene.collisions.mode), Scene.collisions,
-      Scene.floorEnabled && !isImplicit(Scene.integrator), Scene.floor);
+    Detector = std::make_unique<CollisionDetector>(tetBodyGeometry(Mesh, Scene.collisions), Scene.collisions,
+      Scene.floorActive() && !isImplicit(Scene.integrator), Scene.floor);
   }
   // A contact keeps the collision margin, the floor's too: the implicit solve holds points on
   // the plane lifted by it, so every integrator rests at the same height.
   SceneSettings solveScene = Scene;
-  // With Collisions Off nothing is collided with, the floor included (as for the explicit
-  // integrators and PBD, and as the plan says).
-  solveScene.floorEnabled = Scene.floorEnabled && Scene.collisions.mode != CollisionMode::Off;
-  if (Detector && solveScene.floorEnabled)
+  if (Detector && solveScene.floorActive())
   {
     solveScene.floor.origin += Detector->margin() * solveScene.floor.normal;
   }
-  if (solveScene.floorEnabled)
+  if (solveScene.floorActive())
   {
     liftBodiesOntoPlane(Mesh, Masses.inverseMass, solveScene.floor, State.positions);
   }
-  if (Scene.integrator == Integrator::ImplicitEuler)
+  if (isImplicit(Scene.integrator))
   {
-    Newton = std::make_unique<ImplicitEulerStepper>(Topo, Constants, Masses, solveScene);
-  }
-  else if (Scene.integrator == Integrator::ProjectiveDynamics)
-  {
-    Projective =
-      std::make_unique<ProjectiveDynamicsStepper>(Topo, Constants, Masses, Mesh.points, solveScene);
+    Implicit = makeImplicitIntegrator(solveScene, Topo, Constants, Masses, Mesh.points);
   }
 }
 
 const ImplicitConvergence* MassSpringSimulation::implicitConvergence() const
 {
-  if (Newton)
-  {
-    return &Newton->convergence();
-  }
-  return Projective ? &Projective->convergence() : nullptr;
+  return Implicit ? &Implicit->convergence() : nullptr;
 }
 
 std::string MassSpringSimulation::longRunWarning(double duration) const
@@ -155,14 +143,7 @@ void MassSpringSimulation::integrateImplicit(double h)
   double total = 0.0;
   {
     ScopedStageTimer timer(total);
-    if (Newton)
-    {
-      Newton->step(h, State, Plan);
-    }
-    else
-    {
-      Projective->step(h, State, Plan);
-    }
+    Implicit->step(h, State, Plan);
   }
   Plan.seconds(Stage::Integrate) +=
     total - (Plan.seconds(Stage::Forces) + Plan.seconds(Stage::LinearSolve) - before);
@@ -177,7 +158,7 @@ void MassSpringSimulation::stepOnce(double h)
   {
     StepStart = State.positions;
   }
-  if (isImplicit(Scene.integrator))
+  if (Implicit)
   {
     integrateImplicit(h);
   }
@@ -190,7 +171,7 @@ void MassSpringSimulation::stepOnce(double h)
     ScopedStageTimer timer(Plan, Stage::StrainLimit);
     // Verlet's velocity is the position difference of the last step: a moved point moves it.
     limitStrain(Topo, Constants, Masses.inverseMass, Scene.strainLimit,
-      Scene.strainLimitIterations, Scene.integrator == Integrator::Verlet, h, State.positions,
+      Scene.strainLimitIterations, factsOf(Scene.integrator).velocityFromPositions, h, State.positions,
       State.velocities, StrainWork);
   }
   if (Plan.runs(Stage::CollisionDetect))

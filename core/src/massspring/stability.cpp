@@ -2,26 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 
 namespace softbody
 {
 namespace
 {
-
-/// Spectral radius of a real 2x2 matrix [[a, b], [c, d]].
-double spectralRadius2x2(double a, double b, double c, double d)
-{
-  const double halfTrace = 0.5 * (a + d);
-  const double det = a * d - b * c;
-  const double disc = halfTrace * halfTrace - det;
-  if (disc < 0.0)
-  {
-    return std::sqrt(det); // complex pair: |lambda|^2 = det
-  }
-  const double root = std::sqrt(disc);
-  return std::max(std::abs(halfTrace + root), std::abs(halfTrace - root));
-}
 
 /// Largest h in [0, 10/omega] with radius <= 1, assuming the stable set is an interval from 0
 /// (true for these methods on a damped oscillator). Bisection to ~1e-15 relative.
@@ -45,30 +30,7 @@ double stableStepFor(Integrator integrator, double omega, double c)
 
 double amplificationRadius(Integrator integrator, double h, double omega, double c)
 {
-  const double w2 = omega * omega;
-  switch (integrator)
-  {
-    case Integrator::Euler: // x' = x + h v, v' = v + h(-w^2 x - c v)
-      return spectralRadius2x2(1.0, h, -h * w2, 1.0 - h * c);
-    case Integrator::Verlet: // leapfrog with a constant step is Euler-Cromer on (x, v_{-1/2})
-    case Integrator::EulerCromer: // v' = v + h(-w^2 x - c v), x' = x + h v'
-      return spectralRadius2x2(1.0 - h * h * w2, h * (1.0 - h * c), -h * w2, 1.0 - h * c);
-    case Integrator::ImplicitEuler:
-    case Integrator::ProjectiveDynamics: // converged, both solve the backward-Euler equations
-    {
-      // x' = x + h v', v' = v + h(-w^2 x' - c v'): A = [[1 + hc, h], [-h w^2, 1]] / D.
-      const double d = 1.0 + h * c + h * h * w2;
-      return spectralRadius2x2((1.0 + h * c) / d, h / d, -h * w2 / d, 1.0 / d);
-    }
-    case Integrator::Midpoint:
-    {
-      // A = I + hJ + (hJ)^2 / 2 with J = [[0, 1], [-w^2, -c]], J^2 = [[-w^2, -c], [c w^2, c^2 - w^2]].
-      const double h2 = 0.5 * h * h;
-      return spectralRadius2x2(1.0 - h2 * w2, h - h2 * c, -h * w2 + h2 * c * w2,
-        1.0 - h * c + h2 * (c * c - w2));
-    }
-  }
-  return 0.0;
+  return factsOf(integrator).amplificationRadius(h, omega, c);
 }
 
 double stableTimeStep(Integrator integrator, double omegaMax, double minDampingTime,

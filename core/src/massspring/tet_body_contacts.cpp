@@ -51,7 +51,7 @@ std::vector<std::int32_t> bodyOfPoints(const TetMesh& mesh, std::int32_t& bodies
 /// point out of the floor and the obstacles, as the floor pass before did; with self
 /// collisions only the surface vertices, since an interior point lies behind its own
 /// surface's one-sided triangles and would be pushed out through them.
-CollisionGeometry tetBodyGeometry(const TetMesh& mesh, CollisionMode mode)
+CollisionGeometry tetBodyGeometry(const TetMesh& mesh, const CollisionSettings& collisions)
 {
   CollisionGeometry g;
   g.rest = mesh.points;
@@ -60,7 +60,7 @@ CollisionGeometry tetBodyGeometry(const TetMesh& mesh, CollisionMode mode)
   std::int32_t bodies = 0;
   g.bodyOf = bodyOfPoints(mesh, bodies);
   g.surfaceTriangles = boundaryTriangles(mesh.tets);
-  if (mode != CollisionMode::ObstaclesBodiesAndSelf)
+  if (!collisions.selfCollides())
   {
     g.collidingPoints.resize(mesh.points.size());
     std::iota(g.collidingPoints.begin(), g.collidingPoints.end(), 0);
@@ -76,14 +76,14 @@ CollisionGeometry tetBodyGeometry(const TetMesh& mesh, CollisionMode mode)
   return g;
 }
 
-FloorPlane floorHoldingPlane(const TetMesh& mesh, const SceneSettings& scene)
+FloorPlane floorHoldingPlane(const TetMesh& mesh, const Scene& scene)
 {
   FloorPlane plane = scene.floor;
-  if (!scene.floorEnabled || scene.collisions.mode == CollisionMode::Off || !(scene.floor.normal.norm() > 0.0))
+  if (!scene.floorActive() || !(scene.floor.normal.norm() > 0.0))
   {
     return plane;
   }
-  const CollisionDetector detector(tetBodyGeometry(mesh, scene.collisions.mode), scene.collisions,
+  const CollisionDetector detector(tetBodyGeometry(mesh, scene.collisions), scene.collisions,
     false, scene.floor);
   plane.origin += detector.margin() * scene.floor.normal.normalized();
   return plane;

@@ -33,7 +33,7 @@ void PbdSimulation::setUpCollisions(const std::vector<Tet>& tets,
       }
     }
   }
-  if (Settings.collisions.mode == CollisionMode::Off)
+  if (!Settings.collisions.on())
   {
     return;
   }
@@ -67,7 +67,7 @@ void PbdSimulation::setUpCollisions(const std::vector<Tet>& tets,
   // only surface vertices held, the floor stopped the bottom surface while the interior
   // points above it fell on through, inverting the bottom tets (an XPBD ellipsoid of 19,019
   // tets resting on the floor: 203 inverted after 0.04 s, 1,129 after 0.2 s).
-  const bool interiorCollides = Settings.collisions.mode != CollisionMode::ObstaclesBodiesAndSelf;
+  const bool interiorCollides = !Settings.collisions.selfCollides();
   geometry.radius.assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -82,7 +82,7 @@ void PbdSimulation::setUpCollisions(const std::vector<Tet>& tets,
     }
   }
   Detector = std::make_unique<CollisionDetector>(
-    std::move(geometry), Settings.collisions, Settings.floorEnabled, Settings.floor);
+    std::move(geometry), Settings.collisions, Settings.floorActive(), Settings.floor);
 }
 
 bool PbdSimulation::collisionsActive() const
@@ -91,9 +91,9 @@ bool PbdSimulation::collisionsActive() const
   {
     return false;
   }
-  const CollisionMode mode = Settings.collisions.mode;
-  return Settings.floorEnabled || HasObstacles || mode == CollisionMode::ObstaclesBodiesAndSelf ||
-    (mode == CollisionMode::ObstaclesAndBodies && BodyFirstPoint.size() > 1);
+  const CollisionSettings& c = Settings.collisions;
+  return Settings.floorActive() || HasObstacles || c.selfCollides() ||
+    (c.bodiesCollide() && BodyFirstPoint.size() > 1);
 }
 
 void PbdSimulation::replan()

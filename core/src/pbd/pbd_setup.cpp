@@ -29,13 +29,8 @@ void validateSettings(const PbdSettings& s)
   check::atLeast("Iterations", s.iterations, 1);
   check::nonNegative("ResidualTolerance", s.residualTolerance, "", "run every iteration");
   check::inRange("Relaxation", s.relaxation, 0.0, 2.0, true, true);
-  check::finite("Gravity", s.gravity);
+  validateScene(s);
   check::nonNegative("VelocityDamping", s.damping, "1/s", "undamped");
-  if (s.floorEnabled)
-  {
-    check::finite("FloorOrigin", s.floor.origin);
-    check::nonZeroDirection("FloorNormal", s.floor.normal);
-  }
   check::nonNegative("ParticleRadius", s.particleRadius, "m");
   check::nonNegative("StaticFriction", s.collisions.staticFriction, "", "frictionless");
   check::nonNegative("DynamicFriction", s.collisions.dynamicFriction, "", "frictionless");
@@ -273,7 +268,7 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
     State.linkRestLengths = Links.rest;
     State.linkBroken = Links.broken;
   }
-  if (Plan.runs(Stage::CollisionDetect) && Settings.floorEnabled)
+  if (Plan.runs(Stage::CollisionDetect) && Settings.floorActive())
   {
     liftBodiesOntoFloor();
   }

@@ -41,6 +41,14 @@ struct CollisionSettings
   /// In [0, 1]: the fraction of the normal approach speed kept after an impact.
   double restitution = 0.0;
   bool operator==(const CollisionSettings&) const = default;
+
+  /// The rules every method and the filter read from the mode (decided here only).
+  bool on() const { return mode != CollisionMode::Off; }
+  bool bodiesCollide() const
+  {
+    return mode == CollisionMode::ObstaclesAndBodies || mode == CollisionMode::ObstaclesBodiesAndSelf;
+  }
+  bool selfCollides() const { return mode == CollisionMode::ObstaclesBodiesAndSelf; }
 };
 
 } // namespace softbody

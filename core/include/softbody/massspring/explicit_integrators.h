@@ -5,30 +5,12 @@
 
 #include "softbody/common/geometry.h"
 #include "softbody/common/state.h"
+#include "softbody/integrators/integrator.h"
 
 #include <vector>
 
 namespace softbody
 {
-
-enum class Integrator
-{
-  Euler,       ///< x += h v(t);        v += h a(t)                 first order, needs damping
-  Midpoint,    ///< RK2 through the midpoint state                  second order
-  Verlet,      ///< Stoermer-Verlet in leapfrog form (see below)    second order, symplectic
-  EulerCromer, ///< v += h a(t);        x += h v(t+h)               first order, symplectic
-  // Implicit (implicit_euler.h, projective_dynamics.h): stable at any step, solved per step.
-  ImplicitEuler,     ///< backward Euler by Newton's method with PCG   first order, dissipative
-  ProjectiveDynamics ///< backward Euler by local/global iterations (Liu et al. 2013)
-};
-
-const char* integratorName(Integrator integrator);
-
-/// True for the integrators that solve a system per step (and have no stability limit).
-inline bool isImplicit(Integrator integrator)
-{
-  return integrator == Integrator::ImplicitEuler || integrator == Integrator::ProjectiveDynamics;
-}
 
 /// Computes accelerations [m/s^2] for given positions and velocities.
 class AccelerationEvaluator

@@ -8,12 +8,13 @@
 #pragma once
 
 #include "softbody/massspring/block_pcg.h"
+#include "softbody/massspring/implicit_integrator.h"
 #include "softbody/massspring/implicit_solve.h"
 
 namespace softbody
 {
 
-class ImplicitEulerStepper
+class ImplicitEulerStepper final : public ImplicitIntegrator
 {
 public:
   ImplicitEulerStepper(const Topology& topology, const ElementConstants& constants,
@@ -21,9 +22,9 @@ public:
 
   /// One backward-Euler step of h (positions and velocities; time and counters are the
   /// caller's). Times Stage::Forces (evaluations and assembly) and Stage::LinearSolve.
-  void step(double h, DynamicState& state, StepPlan& plan);
+  void step(double h, DynamicState& state, StepPlan& plan) override;
 
-  const ImplicitConvergence& convergence() const { return Convergence; }
+  const ImplicitConvergence& convergence() const override { return Convergence; }
   /// CG iteration limit per Newton iteration.
   static constexpr int kMaxLinearIterations = 2000;
 

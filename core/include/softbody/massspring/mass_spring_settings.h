@@ -2,11 +2,10 @@
 // settings (integrator, step, gravity, floor, strain limit). Immutable once the stepper is made.
 #pragma once
 
-#include "softbody/collision/collision_settings.h"
-#include "softbody/common/floor_plane.h"
 #include "softbody/massspring/explicit_integrators.h"
 #include "softbody/material/material.h"
 #include "softbody/mesh/tet_mesh.h"
+#include "softbody/scene/scene.h"
 
 #include <vector>
 
@@ -28,24 +27,20 @@ struct ImplicitSettings
   bool operator==(const ImplicitSettings&) const = default;
 };
 
-struct SceneSettings
+/// The mass-spring method's settings on top of the scene every method shares.
+struct SceneSettings : Scene
 {
   Integrator integrator = Integrator::EulerCromer;
   /// [s]; 0 = automatic: explicit integrators take the largest stable step estimate times
   /// stabilitySafety; implicit ones one step per advance() call (the filter: one per frame).
   double timeStep = 0.0;
   double stabilitySafety = 0.9; ///< fraction of the estimated stable step used in auto mode
-  Vec3 gravity{ 0.0, 0.0, -9.81 }; ///< [m/s^2]
-  bool floorEnabled = false;
-  FloorPlane floor;
   /// Strain limit: maximum l / l0 of a spring (> 1); 0 disables strain limiting.
   double strainLimit = 0.0;
   int strainLimitIterations = 4;
   InvertedTetPolicy invertedTets = InvertedTetPolicy::Reorient;
   /// A state is declared exploded when a spring grows past this factor of its rest length.
   double divergenceStretch = 100.0;
-  /// Floor, obstacles, bodies, self: what is detected and how contacts respond.
-  CollisionSettings collisions;
   ImplicitSettings implicit;
   bool operator==(const SceneSettings&) const = default;
 };

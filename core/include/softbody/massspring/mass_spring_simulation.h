@@ -77,7 +77,10 @@ public:
   /// Convergence of the implicit integrators' solves; null for the explicit ones.
   const ImplicitConvergence* implicitConvergence() const;
   /// The Projective Dynamics stepper (factorization facts); null for other integrators.
-  const ProjectiveDynamicsStepper* projectiveDynamics() const { return Projective.get(); }
+  const ProjectiveDynamicsStepper* projectiveDynamics() const
+  {
+    return dynamic_cast<const ProjectiveDynamicsStepper*>(Implicit.get());
+  }
 
 private:
   class Forces;
@@ -103,8 +106,7 @@ private:
   mutable StepPlan Plan; // stages and their timers (timed from const force evaluations)
   mutable ForceScratch ForceWork;
   mutable std::vector<Vec3> ForceBuffer;
-  std::unique_ptr<ImplicitEulerStepper> Newton;             // Integrator ImplicitEuler
-  std::unique_ptr<ProjectiveDynamicsStepper> Projective;    // Integrator ProjectiveDynamics
+  std::unique_ptr<ImplicitIntegrator> Implicit; // null for the explicit integrators
   // Contacts (Collisions not Off): the detector, the step's start positions it sweeps from,
   // the contacts found and what their response did.
   std::unique_ptr<CollisionDetector> Detector;

@@ -25,6 +25,7 @@
 
 #include "softbody/common/state.h"
 #include "softbody/common/step_plan.h"
+#include "softbody/massspring/implicit_integrator.h"
 #include "softbody/massspring/implicit_solve.h"
 
 #include <Eigen/SparseCholesky>
@@ -34,7 +35,7 @@
 namespace softbody
 {
 
-class ProjectiveDynamicsStepper
+class ProjectiveDynamicsStepper final : public ImplicitIntegrator
 {
 public:
   ProjectiveDynamicsStepper(const Topology& topology, const ElementConstants& constants,
@@ -42,9 +43,9 @@ public:
     const SceneSettings& scene);
 
   /// One step of h; factors A first when h differs from the last step's (Stage::LinearSolve).
-  void step(double h, DynamicState& state, StepPlan& plan);
+  void step(double h, DynamicState& state, StepPlan& plan) override;
 
-  const ImplicitConvergence& convergence() const { return Convergence; }
+  const ImplicitConvergence& convergence() const override { return Convergence; }
   /// Wall time of the last factorization [s], and the factor's nonzeros (its memory is about
   /// 12 bytes each).
   double factorSeconds() const { return FactorSeconds; }

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "softbody/collision/collision_detector.h"
-#include "softbody/massspring/mass_spring_settings.h"
+#include "softbody/scene/scene.h"
 #include "softbody/mesh/tet_mesh.h"
 
 #include <cstddef>
@@ -15,12 +15,12 @@ namespace softbody
 
 /// The detector's geometry of a tet body: its boundary triangles (outward) and each point's
 /// connected body; every point collides, or only the surface vertices with self-collision.
-CollisionGeometry tetBodyGeometry(const TetMesh& mesh, CollisionMode mode);
+CollisionGeometry tetBodyGeometry(const TetMesh& mesh, const CollisionSettings& collisions);
 
 /// The plane where contacts hold points: the floor lifted by the collision margin of `mesh`
-/// (automatic or given); the floor itself with Collisions Off. Throws InvalidInputError for
+/// (automatic or given); the floor itself where it is not active. Throws InvalidInputError for
 /// bad collision settings, as the detector does.
-FloorPlane floorHoldingPlane(const TetMesh& mesh, const SceneSettings& scene);
+FloorPlane floorHoldingPlane(const TetMesh& mesh, const Scene& scene);
 
 /// Pre-stabilization (Macklin et al. 2014, initial penetration): each connected body with a
 /// point below `plane` is lifted rigidly along its normal by its deepest penetration, so it

@@ -3,10 +3,9 @@
 // once the simulation is made.
 #pragma once
 
-#include "softbody/collision/collision_settings.h"
-#include "softbody/common/floor_plane.h"
 #include "softbody/common/geometry.h"
 #include "softbody/mesh/tet_mesh.h" // InvertedTetPolicy
+#include "softbody/scene/scene.h"
 
 namespace softbody
 {
@@ -38,7 +37,8 @@ struct ConstraintMaterial
   bool operator==(const ConstraintMaterial&) const = default;
 };
 
-struct PbdSettings
+/// The PBD/XPBD method's settings on top of the scene every method shares.
+struct PbdSettings : Scene
 {
   PbdFormulation formulation = PbdFormulation::Xpbd;
   PbdSolver solver = PbdSolver::GaussSeidel;
@@ -55,20 +55,13 @@ struct PbdSettings
   /// the fixed count. Checking costs one extra evaluation pass per iteration.
   double residualTolerance = 0.0;
   double relaxation = 1.0; ///< SOR factor (Gauss-Seidel) or Jacobi's relaxation, in (0, 2)
-  Vec3 gravity{ 0.0, 0.0, -9.81 };
   /// Velocity damping rate [1/s]: v *= max(0, 1 - damping h) each substep.
   double damping = 0.0;
 
-  bool floorEnabled = false;
-  FloorPlane floor;
   /// Radius of the particles of particle bodies (points in no tet and no surface triangle:
   /// voxelized lattices), which collide as spheres of it [m].
   double particleRadius = 0.0;
 
-  /// Floor, obstacles, bodies, self: what is detected, the margin, and how contacts respond
-  /// (static and dynamic friction, restitution). The floor is one obstacle among the others:
-  /// with mode Off nothing is collided with, not even the floor.
-  CollisionSettings collisions;
   ConstraintMaterial links;       ///< distance: compliance in m/N
   ConstraintMaterial volumes;     ///< tet volume (C = V - V0 in m^3): compliance in m^3/Pa
   ConstraintMaterial attachments; ///< soft pins: compliance in m/N

@@ -1,0 +1,36 @@
+// The implicit integrators as interchangeable strategies. Each solves one step of h through the
+// shared line-search solve (implicit_solve.h) with its own direction rule; the mass-spring
+// stepper holds one of them and asks nothing about which. A new implicit integrator derives
+// from ImplicitIntegrator, gets its row in the integrator table (integrators/integrator.h)
+// and its line in makeImplicitIntegrator.
+#pragma once
+
+#include "softbody/common/state.h"
+#include "softbody/common/step_plan.h"
+#include "softbody/massspring/implicit_convergence.h"
+#include "softbody/massspring/mass_spring_settings.h"
+#include "softbody/material/mass.h"
+
+#include <memory>
+#include <vector>
+
+namespace softbody
+{
+
+class ImplicitIntegrator
+{
+public:
+  virtual ~ImplicitIntegrator() = default;
+  /// One step of h (positions and velocities; time and counters are the caller's). Times its
+  /// element passes as Stage::Forces and its solves as Stage::LinearSolve.
+  virtual void step(double h, DynamicState& state, StepPlan& plan) = 0;
+  virtual const ImplicitConvergence& convergence() const = 0;
+};
+
+/// The strategy for scene.integrator (which must be implicit), over the prepared body.
+/// `scene` is the solve's scene: its floor is where contacts hold points.
+std::unique_ptr<ImplicitIntegrator> makeImplicitIntegrator(const SceneSettings& scene,
+  const Topology& topology, const ElementConstants& constants, const PointMasses& masses,
+  const std::vector<Vec3>& restPositions);
+
+} // namespace softbody

@@ -1,0 +1,114 @@
+#include "softbody/integrators/integrator.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+namespace softbody
+{
+namespace
+{
+
+/// Spectral radius of a real 2x2 matrix [[a, b], [c, d]].
+double spectralRadius2x2(double a, double b, double c, double d)
+{
+  const double halfTrace = 0.5 * (a + d);
+  const double det = a * d - b * c;
+  const double disc = halfTrace * halfTrace - det;
+  if (disc < 0.0)
+  {
+    return std::sqrt(det); // complex pair: |lambda|^2 = det
+  }
+  const double root = std::sqrt(disc);
+  return std::max(std::abs(halfTrace + root), std::abs(halfTrace - root));
+}
+
+// Each function below is the integrator's step matrix on (x, v) for x'' = -w^2 x - c x'.
+
+double eulerRadius(double h, double omega, double c)
+{
+  // x' = x + h v, v' = v + h(-w^2 x - c v)
+  const double w2 = omega * omega;
+  return spectralRadius2x2(1.0, h, -h * w2, 1.0 - h * c);
+}
+
+double kickDriftRadius(double h, double omega, double c)
+{
+  // v' = v + h(-w^2 x - c v), x' = x + h v'. Leapfrog Verlet with a constant step is this
+  // map on (x, v_{-1/2}).
+  const double w2 = omega * omega;
+  return spectralRadius2x2(1.0 - h * h * w2, h * (1.0 - h * c), -h * w2, 1.0 - h * c);
+}
+
+double backwardEulerRadius(double h, double omega, double c)
+{
+  // x' = x + h v', v' = v + h(-w^2 x' - c v'): A = [[1 + hc, h], [-h w^2, 1]] / D. Both
+  // implicit integrators solve these equations when converged.
+  const double w2 = omega * omega;
+  const double d = 1.0 + h * c + h * h * w2;
+  return spectralRadius2x2((1.0 + h * c) / d, h / d, -h * w2 / d, 1.0 / d);
+}
+
+double midpointRadius(double h, double omega, double c)
+{
+  // A = I + hJ + (hJ)^2 / 2 with J = [[0, 1], [-w^2, -c]], J^2 = [[-w^2, -c], [c w^2, c^2 - w^2]].
+  const double w2 = omega * omega;
+  const double h2 = 0.5 * h * h;
+  return spectralRadius2x2(
+    1.0 - h2 * w2, h - h2 * c, -h * w2 + h2 * c * w2, 1.0 - h * c + h2 * (c * c - w2));
+}
+
+using I = Integrator;
+// clang-format off
+constexpr std::array<IntegratorFacts, 6> kTable{ {
+  // integrator            name                 order implicit symplectic evaluations
+  //   staggered velocity, GPU, undamped reference, plan's element pass and linear solve, stability
+  { I::Euler,              "Euler",               1, false, false, 1,
+    false, true,  I::EulerCromer,        nullptr,               nullptr,                eulerRadius },
+  { I::Midpoint,           "Midpoint",            2, false, false, 2,
+    false, true,  I::Midpoint,           nullptr,               nullptr,                midpointRadius },
+  { I::Verlet,             "Verlet",              2, false, true,  1,
+    true,  true,  I::Verlet,             nullptr,               nullptr,                kickDriftRadius },
+  { I::EulerCromer,        "Euler-Cromer",        1, false, true,  1,
+    false, true,  I::EulerCromer,        nullptr,               nullptr,                kickDriftRadius },
+  // Newton: gradient, PSD Hessian and line-search energies; then CG on the Hessian.
+  { I::ImplicitEuler,      "Implicit Euler",      1, true,  false, 1,
+    false, false, I::ImplicitEuler,      "gradient + Hessian",  "block-Jacobi PCG",     backwardEulerRadius },
+  // Local step: the element pass (projections = gradient); global: prefactored solves.
+  { I::ProjectiveDynamics, "Projective Dynamics", 1, true,  false, 1,
+    false, false, I::ProjectiveDynamics, "local step",          "prefactored Cholesky", backwardEulerRadius },
+} };
+// clang-format on
+
+constexpr bool tableInEnumOrder()
+{
+  for (std::size_t i = 0; i < kTable.size(); ++i)
+  {
+    if (static_cast<std::size_t>(kTable[i].integrator) != i)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+static_assert(tableInEnumOrder(), "integrator table rows must follow the enumeration's order");
+
+} // namespace
+
+std::span<const IntegratorFacts> integratorTable()
+{
+  return kTable;
+}
+
+const IntegratorFacts& factsOf(Integrator integrator)
+{
+  const auto index = static_cast<std::size_t>(integrator);
+  if (index >= kTable.size())
+  {
+    throw std::invalid_argument("factsOf: not an integrator");
+  }
+  return kTable[index];
+}
+
+} // namespace softbody
