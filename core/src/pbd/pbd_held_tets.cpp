@@ -193,14 +193,15 @@ void PbdSimulation::finishHeldTets()
 {
   // First the region: while a held tet is inverted after the global iterations, the held tets
   // and every link at their corners, then the contacts, are iterated on by themselves, bottom
-  // up, at most kRegionIterations times. What the repair below left inverted on the ellipsoid
-  // of python.floor_faults (10 iterations x 1 substep: 30 tets per frame on average over the
-  // first second, 59 at most, all 2-7 mm above the floor and at most 5% of the mesh's median
-  // volume; 40 global iterations left 2, 4 substeps none) is where a resting body's support
-  // has not yet reached up through the solve: the same constraints solved further there, in the
-  // order that carries the support upward (XPBD's multipliers carry on), leave none; where the
-  // solve has converged, nothing runs. Sweeping in storage order instead also leaves none, but
-  // makes the result depend on the vertex ordering; tet by tet in input order leaves 1-2 per frame.
+  // up, at most kRegionIterations times. What the repair below leaves inverted on its own on
+  // the ellipsoid of python.floor_faults (10 iterations x 1 substep: 30 tets per frame on
+  // average over the first second, 59 at most, all 2-7 mm above the floor and at most 5% of the
+  // mesh's median volume; 40 global iterations leave 2, 4 substeps none) is where a resting
+  // body's support has not yet reached up through the solve: the same constraints solved
+  // further there, in the order that carries the support upward (XPBD's multipliers carry on),
+  // leave none; where the solve has converged, nothing runs. Sweeping in storage order instead
+  // also leaves none, but makes the result depend on the vertex ordering; tet by tet in input
+  // order leaves 1-2 per frame.
   //
   // Then the repair. Neighbouring held tets share corners, so one's correction can crush
   // another again; the last iteration's state is the step's, so the pass is repeated until
