@@ -5,11 +5,11 @@
  * A tet whose VolumeRatio is <= 0 is inverted. Every output frame carries the count as field
  * data "InvertedTets"; the first frame that has any becomes a warning, with what limits the
  * method there and what to change, so a run that crushes its tets does not do so silently.
- * (On issue 14's resting ellipsoid the contacts flattened the bottom layer and then the solve
- * left small tets near the contact unconverged; both are handled in core now, and what a run
- * still inverts - too few iterations or substeps for its load, a per-tet Young's modulus at one
- * substep, a mass-spring material too soft for its load - is said here. Tets a breaking run has
- * broken are not counted: they no longer hold their volume.)
+ * (Contacts flattening a resting body's bottom layer, and a solve leaving small tets near the
+ * contact unconverged, are handled in core (pbd_held_tets.cpp); what a run still inverts - too
+ * few iterations or substeps for its load, a per-tet Young's modulus at one substep, a
+ * mass-spring material too soft for its load - is said here. Tets a breaking run has broken are
+ * not counted: they no longer hold their volume.)
  */
 #ifndef vtkSoftBodyInversionReport_h
 #define vtkSoftBodyInversionReport_h

@@ -203,12 +203,12 @@ int vtkSoftBodyVoxelize::RequestData(
     }
   };
   // One distance object per thread, each on a private copy of the surface's geometry (points
-  // and triangles, no attribute arrays). They used to share the cleaned surface, and the flags
-  // then changed from run to run with 2 or more threads (1,604 to 1,613 particles on
-  // bunny_10k.obj; always the same with 1 thread): VTK 9.1's
+  // and triangles, no attribute arrays). Sharing the cleaned surface makes the flags change
+  // from run to run with 2 or more threads (1,604 to 1,613 particles on bunny_10k.obj; always
+  // the same with 1 thread): VTK 9.1's
   // vtkImplicitPolyDataDistance::SetInput keeps a triangle-filtered polydata that still shares
   // the caller's vtkPoints and point data, and queries on shared VTK data objects are not
-  // thread-safe (const-looking calls refresh internal caches). A shared object flipped a node's
+  // thread-safe (const-looking calls refresh internal caches). A shared object flips a node's
   // inside/outside sign now and then, and the distance-based skipping copies a flag to the
   // nodes it skips. Private copies cost one surface per thread and make the flags independent
   // of the thread count. Each slice is written by the thread that classifies it, so no two

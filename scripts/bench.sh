@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The accuracy and stability lab (issue 13): same set-up as scripts/test.sh (packages, configure,
+# The accuracy and stability lab: same set-up as scripts/test.sh (packages, configure,
 # build), then bench_accuracy writes one CSV per scene, the stability and stress tables and a
 # summary into output/bench/, and scripts/plot_accuracy.py draws run time against error per scene
 # (log-log, one curve per method, the Pareto front marked) when matplotlib is there.

@@ -1,15 +1,15 @@
 // The process's one GL thread and one headless context, shared by every GPU simulation.
 //
-// Why one, and not a thread and a context per simulation (as before issue 11):
+// Why one, and not a thread and a context per simulation:
 // - EGL displays are per-process singletons; Mesa keeps per-display and per-screen state (and
 //   llvmpipe its worker threads) that every context of the process shares. Creating and
 //   destroying a context per simulation, each on its own thread that then releases its EGL
-//   thread state and exits, multiplied the create/destroy/thread-exit paths through the
-//   driver and left their order to whoever destroyed filters last (a ParaView session ends
+//   thread state and exits, would multiply the create/destroy/thread-exit paths through the
+//   driver and leave their order to whoever destroys filters last (a ParaView session can end
 //   with eight filters torn down in whatever order its proxies go).
 // - Process exit: Mesa's libEGL frees its displays in an atexit() handler, glvnd unloads its
 //   vendors in an ELF destructor. A simulation destroyed by a static destructor after those ran
-//   (ParaView singletons, Python finalization) used EGL/GL on freed driver state. Here the
+//   (ParaView singletons, Python finalization) would use EGL/GL on freed driver state. Here the
 //   context is destroyed by our own atexit() handler, registered after EGL initialized and so
 //   run before EGL's: the driver is still whole when the context goes, and simulations that
 //   outlive it leave their GL objects to the process's end without calling GL.

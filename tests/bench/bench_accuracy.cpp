@@ -1,4 +1,4 @@
-// The accuracy and stability lab (issue 13): run time against error on scenes with known
+// The accuracy and stability lab: run time against error on scenes with known
 // answers, the largest stable step of each explicit integrator against the automatic estimate,
 // and a stress matrix of hostile inputs.
 //
@@ -14,10 +14,9 @@
 //                (2 kappa G A), kappa = 5/6 (rectangle); the shear term is 1.0% of the bending
 //                term at L / h = 10. Errors as for the bar, at t = 0.1 s.
 //   restitution  PBD/XPBD: a flat sheet of linked particles dropped level from 10 cm with
-//                restitution e = 0.5: rebound height of its lowest point e^2 h; and a stiff tet
-//                cube (restitution_cube), measured against the same. (The mass-spring floor is
-//                perfectly inelastic: not run, said so.)
-//   incline      PBD/XPBD: a block on a floor tilted by theta with friction mu: acceleration
+//                restitution e = 0.5: rebound height of its lowest point e^2 h; and, every
+//                method, a stiff tet cube (restitution_cube), measured against the same.
+//   incline      every method: a block on a floor tilted by theta with friction mu: acceleration
 //                g (sin theta - mu cos theta) (30 deg, mu 0.3) and sticking (20 deg, mu 0.5: tan
 //                theta < mu; error = distance slid over the frictionless distance).
 //   spot         a TetGen mesh of Keenan Crane's spot (38k tets, E 1e4) dropped 1 cm onto the

@@ -1,4 +1,4 @@
-// The lab's stability meshes and the table of omega_max estimates on them (issue 13, item 4):
+// The lab's stability meshes and the table of omega_max estimates on them:
 // how tight the set-up's estimate is and what it costs.
 #pragma once
 

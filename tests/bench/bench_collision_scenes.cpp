@@ -1,4 +1,4 @@
-// Collision scenes through the whole PBD/XPBD step (issue 14, item 7), timed by the step
+// Collision scenes through the whole PBD/XPBD step, timed by the step
 // plan's own stage timers, so each frame's time splits into collision detection (broad +
 // narrow phase, once per substep), the contact solve (the inequality projections inside the
 // iterations) and everything else (prediction, links, volumes, velocity update, restitution):

@@ -1,5 +1,5 @@
 // The wide (four-lane) kernels against the one-at-a-time kernels, on each mesh renumbered along a
-// Morton curve, measured in the same run (issue 15, item 2):
+// Morton curve, measured in the same run:
 //   - XPBD: one iteration of links + tet volumes swept color by color (the parallel
 //     Gauss-Seidel solver's storage), per constraint ('scalar'), with the wide kernels at the
 //     baseline level (SSE2: two doubles per instruction) and at AVX2 (four); sequential

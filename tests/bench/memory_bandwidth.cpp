@@ -1,8 +1,8 @@
 #include "memory_bandwidth.h"
 
-// Through core's parallelFor (TBB, the same blocked_range and grain as before), not TBB
-// directly: a ThreadSanitizer build runs it on std::thread, whose hand-offs TSan sees. Called
-// straight on TBB, TSan reported 36 races inside TBB's own task objects (partitioner,
+// Through core's parallelFor (a TBB blocked_range underneath), not TBB directly: a
+// ThreadSanitizer build runs it on std::thread, whose hand-offs TSan sees. Called straight on
+// TBB, TSan reports 36 races inside TBB's own task objects (partitioner,
 // blocked_range) in bench.mass_spring_smoke: Debian's libtbb is not instrumented.
 #include "softbody/common/parallel.h"
 

@@ -112,7 +112,7 @@ int main()
         << a.Filter->GetSimulatedStepsTotal() - before << " steps)");
   }
   // A value core refuses (it validates while it builds a simulation) keeps the cache: put back,
-  // the frames are all still there (python.soak found them thrown away).
+  // the frames are all still there, not thrown away with the refused simulation.
   {
     const unsigned long long before = a.Filter->GetSimulatedStepsTotal();
     const int cached = a.Filter->GetNumberOfCachedFrames();

@@ -1,5 +1,5 @@
 // filter.input_messages: every doubtful input is answered with a clear error, or a warning that
-// says what was done and quotes the user's value (issue 11, item 3):
+// says what was done and quotes the user's value:
 // - Gmsh hexahedra are split into tets, with a warning counting them, and simulate cleanly;
 // - Delaunay 3D's slivers (ParaView's default Sphere) are refused, quoting the worst angle and
 //   naming Tetrahedralize Surface (TetGen); so is the remedy for hexahedra in a grid;

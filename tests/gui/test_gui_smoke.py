@@ -63,7 +63,7 @@ try:
     if GetActiveView().GetXMLName() != "RenderView":
         failures.append("after stepping, the active view is %s" % GetActiveView().GetXMLName())
 
-    # The two particle bodies of the issue, under XPBD: a voxelized surface given as its own
+    # The two particle bodies, under XPBD: a voxelized surface given as its own
     # Surface, and the cloth. Apply shows the same two ports and opens no pane for either.
     torus = XMLPolyDataReader(FileName=[gui_support.data_file("torus.vtp")])
     gui_support.apply_like_gui(torus)

@@ -1,11 +1,12 @@
-"""python.floor_faults: the floor faults of issue 14, measured through the filter as a new user
-meets them (test_floor_start.py covers the torus started half below the floor; the unit tests
+"""python.floor_faults: what can go wrong with bodies on the floor (crushed tets, a skin below
+the floor, a lifted body that rises, no rebound), measured through the filter as a new user
+meets it (test_floor_start.py covers the torus started half below the floor; the unit tests
 cover the core kernels). Every number checked is printed.
 
 (a) XPBD ellipsoid (Tetrahedralize Surface of a scaled Sphere) resting on the floor: inverted
-    tets (VolumeRatio <= 0) after 0.04 s and 0.2 s. The issue saw 2,704 and 9,200; none now, at
-    the defaults (10 iterations x 1 substep) and with 4 substeps, with the default material or
-    XPBD Material = Young's Modulus (compliances from E per tet). Three measures keep tets from
+    tets (VolumeRatio <= 0) after 0.04 s and 0.2 s: none at the defaults (10 iterations x 1
+    substep) and with 4 substeps, with the default material or XPBD Material = Young's Modulus
+    (compliances from E per tet). Three measures keep tets from
     crushing: a tet below a tenth of its rest volume is projected as a hard inequality
     (pbd_kernels.h); while a tet with a corner held by the floor is still inverted after the
     global iterations, the contact region alone is iterated on, bottom up; and after the
@@ -14,14 +15,13 @@ cover the core kernels). Every number checked is printed.
     No point is below the floor in any run. Every frame counts its inverted tets (field data
     InvertedTets) and one that has any warns with the remedy (Substeps): checked here, with a
     run of 2 iterations that leaves some.
-(b) Mass-Spring on the same ellipsoid: no inverted tet (the issue saw 926 on `spot`, which
+(b) Mass-Spring on the same ellipsoid: no inverted tet (the ellipsoid rather than `spot`, which
     takes 10 s per 0.2 s here and stands on hooves small enough to crush at E = 1e5 Pa).
 (c) Voxelized `spot` and `bunny_10k.obj` (shared data; skipped when absent) under XPBD: the
-    skinned Surface is never below the floor by more than the contact margin (the issue saw
-    146 vertices 12 cm below, 1,416 up to 18 cm), and the floor's render correction is what
-    keeps it there (it moves vertices that the skin alone draws deeper); the body lifted onto
-    the floor does not rise (the issue saw the bunny at 1.9 m).
-(d) Restitution changes a tet bar's rebound under PBD and XPBD (the issue saw none): dropped
+    skinned Surface is never below the floor by more than the contact margin, and the floor's
+    render correction is what keeps it there (it moves vertices that the skin alone draws
+    deeper); the body lifted onto the floor does not rise.
+(d) Restitution changes a tet bar's rebound under PBD and XPBD: dropped
     from h = 0.3 m, its lowest point comes back up about e^2 h."""
 
 import builtins

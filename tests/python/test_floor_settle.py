@@ -67,8 +67,7 @@ settle_speed = 0.02 * np.sqrt(2.0 * 9.81 * drop)
 sbt.check(speed.max() < settle_speed,
           f"the body has settled: max speed {speed.max():.4f} < {settle_speed:.4f} m/s")
 # With floor friction (0.3 by default) the still-rocking body's base sticks while its top
-# sways, so the centre of mass sways too (1.6 cm/s at 3 s, measured); on the frictionless
-# floor before issue 14 it stayed below a fifth of this bound.
+# sways, so the centre of mass sways too (1.6 cm/s at 3 s, measured).
 sbt.check(np.linalg.norm(com_velocity) < settle_speed,
           f"center of mass at rest ({np.linalg.norm(com_velocity):.2e} m/s)")
 sbt.check(np.allclose(sbt.points_of(particles), x, atol=1e-12),

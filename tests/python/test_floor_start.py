@@ -1,9 +1,9 @@
 """python.floor_start: a body that starts half below the floor is put on it, not launched.
 
 The bundled torus, voxelized and centred on the floor plane z = 0, is simulated with PBD and
-XPBD for 1 s. Before pre-stabilization it left at 23 m/s and was 18 m up after 1 s. Now it is
-lifted onto the floor at t = 0 without velocity, with a warning, and never rises above that
-start; its lowest point stays on the floor."""
+XPBD for 1 s. Without pre-stabilization it would leave at 23 m/s and be 18 m up after 1 s;
+instead it is lifted onto the floor at t = 0 without velocity, with a warning, and never rises
+above that start; its lowest point stays on the floor."""
 
 import os
 

@@ -1,12 +1,13 @@
-"""python.gpu_teardown: several GPU filters, updated, then a plain end of the script (issue 11).
+"""python.gpu_teardown: several GPU filters, updated, then a plain end of the script.
 
 Eight Soft Body filters (the four integrators on Device CPU and on Device 'GPU (EGL)') stay
 alive together on one mesh; each is updated and each GPU result is compared with its CPU twin.
 Two more GPU filters are created, updated and deleted in between. The script then simply ends:
 no os._exit. pvpython must tear everything down (the filters die in ParaView's own finalization)
-and exit with status 0; before the fix such a session could abort in free() at teardown
-('corrupted size vs. prev_size') and hang. SKIP (77) where no EGL / OpenGL 4.3 context exists
-(the filter then falls back to the CPU, which python.gpu_device checks)."""
+and exit with status 0, not abort in free() at teardown ('corrupted size vs. prev_size') or
+hang, as GL torn down in the wrong order can (gpu/src/shared_gl_context.h). SKIP (77) where no
+EGL / OpenGL 4.3 context exists (the filter then falls back to the CPU, which
+python.gpu_device checks)."""
 
 import os
 import sys

@@ -1,4 +1,4 @@
-"""python.lab_scenes: the accuracy lab's reference scenes (issue 13) through the Soft Body filter.
+"""python.lab_scenes: the accuracy lab's reference scenes through the Soft Body filter.
 
 The same scenes as tests/bench/bench_accuracy.cpp, built here as a user would (a tet box written
 to a .vtu, read, filtered), checked against their closed forms with tolerances that follow from

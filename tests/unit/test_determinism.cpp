@@ -36,7 +36,7 @@ SceneSettings busyScene(Integrator integrator)
   SceneSettings scene;
   scene.integrator = integrator;
   scene.floorEnabled = true;
-  scene.strainLimit = 1.005; // acts on impact (1.05, as here before, never did)
+  scene.strainLimit = 1.005; // acts on impact (1.05 never does)
   return scene;
 }
 

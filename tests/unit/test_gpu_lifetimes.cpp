@@ -1,6 +1,6 @@
 // GPU simulations created and destroyed in every order a ParaView session produces, then a
-// normal process exit (issue 11: eight Soft Body filters, four of them on the GPU, crashed in
-// free() at teardown and the process never exited).
+// normal process exit (what can go wrong: eight Soft Body filters, four of them on the GPU,
+// crashing in free() at teardown and the process never exiting).
 //
 // A plain program rather than a GoogleTest case, because what it checks is the exit itself:
 // it returns from main() with simulations still alive in static storage (destroyed by the C++

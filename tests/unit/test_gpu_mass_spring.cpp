@@ -70,7 +70,7 @@ SceneSettings busyScene(Integrator integrator)
 {
   // Every stage on: volume term (Poisson 0.3), strain limit and floor contact. The limit is
   // low enough to act: without it the falling body stretches its springs to ~1.023 on impact
-  // (a limit of 1.05, as here before, never fired).
+  // (a limit of 1.05 never fires).
   SceneSettings scene;
   scene.integrator = integrator;
   scene.floorEnabled = true;

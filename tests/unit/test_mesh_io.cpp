@@ -238,10 +238,11 @@ TEST_F(MeshFiles, TetGenBadFiles)
   EXPECT_GT(refused, 100u);
 }
 
-// Found by tests/fuzz/fuzz_tetgen_files (corpus file tetgen_digitless_line): a line without any
-// digit ("@@@", or one starting with a NUL byte) is no record for TetGen's loaders, which skip
-// it; the header check counted it as one, so a header announcing one record more than TetGen
-// finds sent TetGen's load_node_call past the end of the file: a SEGV on its NULL line.
+// The case of tests/fuzz/fuzz_tetgen_files' corpus file crash_digitless_line: a line without
+// any digit ("@@@", or one starting with a NUL byte) is no record for TetGen's loaders, which
+// skip it; a header check that counted it as one would let a header announcing one record more
+// than TetGen finds send TetGen's load_node_call past the end of the file: a SEGV on its NULL
+// line.
 TEST_F(MeshFiles, TetGenLinesWithoutNumbersAreNoRecords)
 {
   const TetMesh m = sample();
@@ -266,9 +267,10 @@ TEST_F(MeshFiles, TetGenLinesWithoutNumbersAreNoRecords)
   expectSameMesh(m, readTetGenMesh((dir / "spaced.node").string()));
 }
 
-// Found by tests/fuzz/fuzz_tetgen_files (corpus file crash_rbox_header): a first record holding
-// "rbox" makes TetGen's load_node read a qhull rbox file, whose point count is on the next
-// record; the header check bounded the wrong number, and TetGen read past the end: a SEGV.
+// The case of tests/fuzz/fuzz_tetgen_files' corpus file crash_rbox_header: a first record
+// holding "rbox" makes TetGen's load_node read a qhull rbox file, whose point count is on the
+// next record; the header check would bound the wrong number, and TetGen would read past the
+// end: a SEGV.
 TEST_F(MeshFiles, TetGenRboxHeaderIsRefused)
 {
   write("rbox.node", "0 # rbox\n3 0 1 1 1\n");

@@ -57,8 +57,8 @@ PbdSettings floorSettings(PbdFormulation formulation)
 
 TEST(PbdFloor, BodyStartingBelowTheFloorIsLiftedWithoutVelocity)
 {
-  // A 0.2 m cube centred on the floor plane (half of it below). Before pre-stabilization the
-  // floor projection flattened the lower half and the constraints threw it up (PBD: 2.5 m/s).
+  // A 0.2 m cube centred on the floor plane (half of it below). Without pre-stabilization the
+  // floor projection would flatten the lower half and the constraints throw it up (PBD: 2.5 m/s).
   for (PbdFormulation formulation : { PbdFormulation::Pbd, PbdFormulation::Xpbd })
   {
     PbdSimulation sim(boxBody(4, 0.05, Vec3(-0.1, -0.1, -0.1)), floorSettings(formulation));
@@ -132,7 +132,7 @@ double reboundHeight(PbdFormulation formulation, double restitution, double& fal
 
 TEST(PbdFloor, RestitutionMakesTetBodiesBounce)
 {
-  // Before the body-level restitution the rebound was the same for every e. Rigid-body
+  // Without the body-level restitution the rebound would be the same for every e. Rigid-body
   // bounce: e^2 h.
   for (PbdFormulation formulation : { PbdFormulation::Pbd, PbdFormulation::Xpbd })
   {

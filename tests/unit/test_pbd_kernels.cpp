@@ -129,7 +129,8 @@ TEST(PbdKernels, SoftTetCrushedThroughZeroIsPushedBackAboveTheLeastVolume)
   EXPECT_GE(volumes.back(), least);
   EXPECT_LT(volumes.back(), 1.01 * least);
 
-  // Above the least volume the soft equality step is unchanged: tiny, and it updates lambda.
+  // Above the least volume the soft equality step is the equality's alone: tiny, and it updates
+  // lambda.
   x = rest;
   x[3] = Vec3(0.0, 0.0, 0.5); // V = 0.5 V0
   const Projection<4> mild = projectTetVolume(x, w, restVolume, lambda, soft);
@@ -140,7 +141,8 @@ TEST(PbdKernels, SoftTetCrushedThroughZeroIsPushedBackAboveTheLeastVolume)
 TEST(PbdKernels, StiffTetCrushedTakesTheLargerEqualityStep)
 {
   // Rigid (PBD stiffness 1): the equality asks for the whole rest volume, more than the
-  // inequality, so an inverted tet is projected as before, towards V0, in a Newton step.
+  // inequality, so an inverted tet is projected as by the equality alone, towards V0, in a
+  // Newton step.
   const std::array<Vec3, 4> rest = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1) };
   const double restVolume = signedTetVolume(rest[0], rest[1], rest[2], rest[3]);
   std::array<Vec3, 4> x = rest;

@@ -285,7 +285,7 @@ TEST(Simulation, VerletVelocityStaysThePositionStepWhenTheLimiterMovesPoints)
 {
   // Leapfrog stores v_{n+1/2} = (x_{n+1} - x_n) / h. The strain limiter moves points after the
   // drift, so it must move their velocities by the same amount over h, or Verlet's velocity
-  // stops being its position step (issue 17: switched off, a 0.12 m body ends 2.2 mm away).
+  // stops being its position step (without it, a 0.12 m body ends 2.2 mm away).
   const BodyDescription body = hangingBox();
   SceneSettings scene;
   scene.integrator = Integrator::Verlet;

@@ -113,8 +113,8 @@ TEST(Stability, FrequencyEstimateIsJustAboveTheExactTopFrequency)
   // A regular box (dense top of the spectrum: the hard case for a few Lanczos steps) and a
   // jittered one with its bottom pinned and a sliver-like spread of element sizes: the set-up's
   // estimate must not be below the exact omega_max (else the automatic step can blow up) and
-  // should be close above it (the Gershgorin bound it replaces was 1.4-2x high on the lab's
-  // meshes); the plain top Ritz value is a lower bound.
+  // should be close above it (the Gershgorin bound is 1.4-2x high on the lab's meshes); the
+  // plain top Ritz value is a lower bound.
   struct Case
   {
     const char* name;
@@ -212,8 +212,8 @@ TEST(Stability, AutomaticStepIsSafeAndWithinTwoOfTheBisectedLimit)
   // The automatic step (0.9 x the estimate from 1.2 x the Lanczos omega_max) against the largest step
   // at which the body itself stays stable, found by bisection (3000 steps from random
   // velocities, energy x1000 = unstable; resolution ~0.1%). Below it always (else the automatic
-  // step blows up), and not wasteful: at least half of it (issue 13: "aim within 2x"; with the
-  // Gershgorin bound it was 0.14 to 0.43 here). Undamped Verlet and the damped methods (whose
+  // step blows up), and not wasteful: at least half of it (the Gershgorin bound alone
+  // gives 0.14 to 0.43 of it here). Undamped Verlet and the damped methods (whose
   // over-damped top modes square any excess in omega_max) alike.
   struct Case
   {
@@ -291,8 +291,8 @@ BodyDescription steelBar(double dampingTime)
 TEST(Stability, SteelHasAStableStepAndRunsAtIt)
 {
   // Stiff and damped: the step is tiny (overdamped stiff modes need h < 2 / (beta w^2)) but it
-  // exists, and the bar falls at it without blowing up. (The estimate used to return 0 here,
-  // then the set-up took 1 ms steps and the run blew up.)
+  // exists, and the bar falls at it without blowing up. (An estimate of 0 here would make the
+  // set-up take 1 ms steps, and the run would blow up.)
   MassSpringSimulation damped(steelBar(2.0e-3), SceneSettings{});
   EXPECT_GT(damped.estimatedStableStep(), 0.0);
   EXPECT_LE(damped.stepSize(), damped.estimatedStableStep());

@@ -33,8 +33,8 @@ namespace
 
 /// Automatic broad phase: brute force up to this many pair tests per detection (points x
 /// (points + triangles)), the uniform grid above. bench_collision's crossover on touching
-/// particles (all threads, least of 28 runs each, on the shared 2-core machine): at 27
-/// particles (729 pair tests) brute force took 0.83 of the grid's time, at 64 (4,096) 1.58 of
+/// particles (all threads, least of 28 runs each, on a shared 2-core machine): at 27
+/// particles (729 pair tests) brute force takes 0.83 of the grid's time, at 64 (4,096) 1.58 of
 /// it, at 125 (15,625) 2.8 of it.
 constexpr double kBruteForcePairs = 2000.0;
 
@@ -43,7 +43,7 @@ constexpr double kBruteForcePairs = 2000.0;
 /// only its place in the set (it asks for nothing while C >= 0); but a resting body's solve
 /// pushes its bottom points further down than their predicted motion (the weight that the
 /// iterations carry down), and a point not in the set goes through the floor unchecked for a
-/// substep: the TetGen ellipsoid resting on the floor (python.floor_faults) had points 4 mm
+/// substep: the TetGen ellipsoid resting on the floor (python.floor_faults) has points 4 mm
 /// below it with the reach of the predicted motion alone, none with three margins. Obstacles
 /// keep the exact reach: their contacts are linearized at the closest feature, which an
 /// inactive contact far from the surface would make wrong on a curved one.
@@ -593,7 +593,7 @@ void CollisionDetector::detect(const std::vector<Vec3>& start, const std::vector
   }
 
   // The blocks' contacts in block order, copied in parallel to their offsets (a serial
-  // concatenation was a tenth of the detection on 100,000 particles at 2 threads).
+  // concatenation would be a tenth of the detection on 100,000 particles at 2 threads).
   std::vector<std::size_t>& offsets = BlockOffsets;
   offsets.assign(blocks + 1, 0);
   for (std::size_t b = 0; b < blocks; ++b)

@@ -31,8 +31,8 @@ void UniformGrid::build(const std::vector<Vec3>& positions, const std::vector<do
 {
   const std::size_t n = positions.size();
   InverseCell = cellSize > 0.0 ? 1.0 / cellSize : 1.0;
-  // Scratch kept between builds: freeing and re-mapping these megabytes each detection cost
-  // page faults.
+  // Scratch kept between builds: freeing and re-mapping these megabytes each detection would
+  // cost page faults.
   std::vector<std::int64_t>& cells = ScratchCells;
   cells.resize(3 * n);
   parallelFor(n, 4096, [&](std::size_t i) {

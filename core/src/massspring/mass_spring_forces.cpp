@@ -31,11 +31,10 @@ constexpr std::int32_t kEveryFourth[4] = { 0, 4, 8, 12 };
 /// Pass 1, springs, for one lane (T = double) or four (T = simd::Lanes4): force on end a,
 ///   f_a = -(k (l - l0) + k_d n.(v_a - v_b)) n,  n = (p_a - p_b) / l   (f_b = -f_a).
 /// A zero-length spring has no direction; it exerts no force (guarded, never NaN).
-/// The operations and their order are those of the scalar code before the lanes, which the GPU
-/// shaders (gpu/shaders/spring_forces.comp) repeat bit for bit. Folding the divisions (two
-/// instead of four per spring, three instead of 22 per tet) was tried and reverted: it broke
-/// that parity, and this pass is bound by memory traffic more than by division (README,
-/// Performance, "Wide kernels").
+/// The operations and their order are the ones the GPU shaders (gpu/shaders/spring_forces.comp)
+/// repeat bit for bit. The divisions are not folded (two instead of four per spring, three
+/// instead of 22 per tet): that would break this parity, and this pass is bound by memory
+/// traffic more than by division (README, Performance, "Wide kernels").
 template <class T>
 SOFTBODY_SIMD_INLINE void springBlock(const Topology& topology, const ElementConstants& c, std::size_t e,
   const double* x, const double* v, double* out)
@@ -58,8 +57,8 @@ SOFTBODY_SIMD_INLINE void springBlock(const Topology& topology, const ElementCon
 }
 
 /// Pass 1, volumes: f_k = s dV/dp_k with s = -(k' (V - V0) + k_d' dV/dt), dV/dt = sum g_j.v_j,
-/// written per corner (4 t + k), with the operations of the scalar code before the lanes (and of
-/// the GPU's volume_forces.comp and its gather): g_k = (e_i x e_j) / 6 from tetVolumeGradients,
+/// written per corner (4 t + k), with the operations of the GPU's volume_forces.comp and its
+/// gather: g_k = (e_i x e_j) / 6 from tetVolumeGradients,
 /// corner 0's force from its own cyclic cross product (p3 - p1) x (p2 - p1) / 6 as the GPU's
 /// gather computes it, so CPU and GPU stay bitwise equal.
 template <class T>
@@ -189,9 +188,9 @@ void computeInternalForces(const Topology& topology, const ElementConstants& con
 
   // Pass 2: gather in CSR order (fixed), one writer per vertex: the spring ends, then (a second
   // loop that starts from the first one's sums, so the additions and their order are unchanged)
-  // the tet corners. One loop over both read two scattered streams at once (the spring forces
-  // with the edges' ends, the corner forces) and ran 0.6 ms slower per evaluation on one thread
-  // on the 180k-tet TetGen ellipsoid (4.9 against 4.3 ms; the same at 2 threads).
+  // the tet corners. One loop over both would read two scattered streams at once (the spring
+  // forces with the edges' ends, the corner forces) and run 0.6 ms slower per evaluation on one
+  // thread on the 180k-tet TetGen ellipsoid (4.9 against 4.3 ms; the same at 2 threads).
   forces.resize(topology.vertexCount);
   parallelFor(topology.vertexCount, kVertexGrain, [&](std::size_t i) {
     Vec3 sum = Vec3::Zero();

@@ -51,8 +51,8 @@ std::unique_ptr<Simulation> buildReorderedMassSpring(BodyDescription body,
   {
     return nullptr;
   }
-  // The warnings of the input-order validation the stepper no longer repeats (re-oriented
-  // tets) come first, where the stepper's own validation would have put them.
+  // The warnings of the input-order validation that the stepper, given tets already
+  // re-oriented, does not repeat come first, where its own validation would put them.
   std::vector<std::string> warnings;
   const std::vector<std::string>& own = inner->warnings();
   for (const std::string& w : meshWarnings)

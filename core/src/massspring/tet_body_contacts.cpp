@@ -48,7 +48,7 @@ std::vector<std::int32_t> bodyOfPoints(const TetMesh& mesh, std::int32_t& bodies
 /// What the detector collides of a tet body: its boundary triangles (outward), each point's
 /// connected body; no particles (radius 0). The colliding points are all points, so that a
 /// body crushed through its own bottom (a very soft one, a fast impact) still keeps every
-/// point out of the floor and the obstacles, as the floor pass before did; with self
+/// point out of the floor and the obstacles; with self
 /// collisions only the surface vertices, since an interior point lies behind its own
 /// surface's one-sided triangles and would be pushed out through them.
 CollisionGeometry tetBodyGeometry(const TetMesh& mesh, const CollisionSettings& collisions)

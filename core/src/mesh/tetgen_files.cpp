@@ -173,8 +173,8 @@ std::vector<long long> checkedHeader(const std::string& file, std::size_t expect
       headerLine = number;
       // TetGen's load_node reads a .node file whose first record contains "rbox" anywhere as
       // a qhull rbox file: the dimension first, then the point count on the next record, which
-      // the check below would not bound (found by the fuzzer: "0 # rbox" followed by a count
-      // larger than the records left made TetGen read past the end of the file, a SEGV).
+      // the check below would not bound: "0 # rbox" followed by a count larger than the records
+      // left makes TetGen read past the end of the file (a SEGV).
       if (std::string_view(what) == "node" && line.find("rbox") != std::string::npos)
       {
         throw InvalidInputError(file + ":" + std::to_string(number) +

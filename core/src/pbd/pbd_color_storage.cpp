@@ -95,15 +95,16 @@ void PbdSimulation::storeLinksAndVolumesInStreams()
 {
   // Sequential Gauss-Seidel applies each projection before the next one reads the positions.
   // Stored sorted by vertex, consecutive constraints share particles, so every projection
-  // waited for the previous one's square root, divisions and stores: on the 180k-tet TetGen
-  // ellipsoid an iteration took 7.4-9.0 ms (15 ns per link, 21-30 ns per tet at 1 thread).
+  // would wait for the previous one's square root, divisions and stores: on the 180k-tet TetGen
+  // ellipsoid an iteration takes 7.4-9.0 ms that way (15 ns per link, 21-30 ns per tet at 1
+  // thread).
   // Stored as interleavedStreams (pbd_solvers.h), consecutive projections lie in distant parts
   // of the body and rarely share a particle, so the core overlaps up to four of them, while
   // each part still walks its region in vertex order (cache). Measured on that mesh, per
   // iteration: 2 parts 5.3 ms, 3 parts 4.4, 4 parts 4.2, 8 parts 4.1 (color order, without
-  // locality, 4.1-4.5). Still one projection at a time in one fixed order, Gauss-Seidel; only
-  // the order differs from before, so the iterate (and the state hashes) of Gauss-Seidel
-  // bodies change.
+  // locality, 4.1-4.5). Still one projection at a time in one fixed order, Gauss-Seidel; the
+  // iterate (and the state hashes) of Gauss-Seidel bodies depend on that order, so they differ
+  // from those of a vertex-sorted store.
   storeLinksInOrder(interleavedStreams(Links.size()));
   storeVolumesInOrder(interleavedStreams(Volumes.size()));
   // Blocks of four consecutive constraints then come from four parts of the body and almost

@@ -3,16 +3,16 @@
 // Each iteration projects the contacts last, so it ends with the inequalities satisfied. But a
 // contact moves its point alone, onto the surface, and a tet with corners held there is
 // flattened or turned inside out by it whenever the solve has not yet carried the support up
-// through the body: the TetGen ellipsoid of issue 14 resting on the floor at the default 10
-// iterations x 1 substep kept 620 of its 19,019 tets inverted after 0.2 s, all in the bottom
+// through the body: without this pass the TetGen ellipsoid resting on the floor at the default
+// 10 iterations x 1 substep keeps 620 of its 19,019 tets inverted after 0.2 s, all in the bottom
 // centimetre, even with the non-inversion inequality of the volume projection (pbd_kernels.h),
-// because the contacts came after it. So after the last iteration, every tet with a corner in
+// because the contacts come after it. So after the last iteration, every tet with a corner in
 // obstacle contact that is below the least volume is projected onto V >= least with none of
 // its corners moving into a surface that holds it (uncrushHeldTet, pbd_contact_kernels.h):
-// that cannot undo a contact. (After every iteration's contacts as well: the same counts on
-// the ellipsoid, 14 against 13 inverted tets per frame over 1 s, at three times the cost of
-// the contact stage.) Before that repair, while a held tet is still inverted, the contact
-// region is iterated on by itself, bottom up (finishHeldTets). The tets are few (those around
+// that cannot undo a contact. (Doing it after every iteration's contacts as well gives the
+// same counts on the ellipsoid, 14 against 13 inverted tets per frame over 1 s, at three times
+// the cost of the contact stage.) Before that repair, while a held tet is still inverted, the
+// contact region is iterated on by itself, bottom up (finishHeldTets). The tets are few (those around
 // the contact points), taken one after another in their input order (the region's links and
 // tets by rest height), so the result is the same at any thread count and vertex ordering.
 
@@ -193,18 +193,19 @@ void PbdSimulation::finishHeldTets()
 {
   // First the region: while a held tet is inverted after the global iterations, the held tets
   // and every link at their corners, then the contacts, are iterated on by themselves, bottom
-  // up, at most kRegionIterations times. What the repair below left inverted on the ellipsoid
-  // of python.floor_faults (10 iterations x 1 substep: 30 tets per frame on average over the
-  // first second, 59 at most, all 2-7 mm above the floor and at most 5% of the mesh's median
-  // volume; 40 global iterations left 2, 4 substeps none) is where a resting body's support
-  // has not yet reached up through the solve: the same constraints solved further there, in the
-  // order that carries the support upward (XPBD's multipliers carry on), leave none; where the
-  // solve has converged, nothing runs. Sweeping in storage order instead left none too, but the
-  // result then depended on the vertex ordering; tet by tet in input order left 1-2 per frame.
+  // up, at most kRegionIterations times. What the repair below leaves inverted on its own on
+  // the ellipsoid of python.floor_faults (10 iterations x 1 substep: 30 tets per frame on
+  // average over the first second, 59 at most, all 2-7 mm above the floor and at most 5% of the
+  // mesh's median volume; 40 global iterations leave 2, 4 substeps none) is where a resting
+  // body's support has not yet reached up through the solve: the same constraints solved
+  // further there, in the order that carries the support upward (XPBD's multipliers carry on),
+  // leave none; where the solve has converged, nothing runs. Sweeping in storage order instead
+  // also leaves none, but makes the result depend on the vertex ordering; tet by tet in input
+  // order leaves 1-2 per frame.
   //
   // Then the repair. Neighbouring held tets share corners, so one's correction can crush
   // another again; the last iteration's state is the step's, so the pass is repeated until
-  // none is corrected, at most kHeldTetPasses times (more passes did not leave fewer: README).
+  // none is corrected, at most kHeldTetPasses times (more passes leave no fewer: README).
   constexpr int kRegionIterations = 20;
   if (contactRegionInverted())
   {

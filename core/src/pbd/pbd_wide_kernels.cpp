@@ -87,7 +87,7 @@ SOFTBODY_SIMD_INLINE void projectBlock(VolumeBatch& batch, std::size_t c, double
 
 /// Blocks of `Lanes` (double: one constraint at a time), then the rest one at a time. Inlined
 /// into one wrapper per SimdLevel, which compiles it for that level. The baseline level runs
-/// one lane: the four-lane type lowered to SSE2 pairs ran at half the scalar speed (measured by
+/// one lane: the four-lane type lowered to SSE2 pairs runs at half the scalar speed (measured by
 /// bench_wide_kernels), since the compiler moves such vectors through memory.
 template <class Lanes, class Batch>
 SOFTBODY_SIMD_INLINE void sweepRange(Batch& batch, std::size_t begin, std::size_t end, std::vector<Vec3>& x,

@@ -113,11 +113,11 @@ private:
   std::vector<double> CollidingReach;     ///< r + displacement + margin / 2: pairs within the sum
   std::vector<std::int32_t> CollidingBody; ///< body per colliding point, the grid's groups (empty: self collisions on); fixed
   // Uniform grid: its pairs of colliding points (indices into Colliding), found once each by
-  // the grid's half stencil and listed at the smaller index, as the per-point queries did.
+  // the grid's half stencil and listed at the smaller index.
   void collectGridPairs();
   std::vector<std::vector<std::array<std::int32_t, 2>>> BlockPairs; ///< per block of grid entries
   std::vector<std::size_t> BlockPairCount;
-  std::vector<std::size_t> BlockOffsets; ///< where each block's contacts go in the detected set ///< the pairs of BlockPairs[b] in use (the rest is room)
+  std::vector<std::size_t> BlockOffsets; ///< where each block's contacts go in the detected set
   std::vector<std::int32_t> PartnerStart; ///< point k's partners: Partners[PartnerStart[k] .. [k+1])
   std::vector<std::int32_t> Partners;
   std::vector<std::int32_t> PartnerNext;  ///< scratch of the counting sort

@@ -36,7 +36,7 @@ public:
   /// `groups` (empty, or one per item): forEachPairFrom skips pairs of one group, before their
   /// distance test; the group is stored beside the sorted entries, so the test reads contiguous
   /// memory (the collision detector's bodies: without self collision most pairs the grid finds
-  /// are neighbours in one body, and looking their bodies up item by item was a quarter of the
+  /// are neighbours in one body, and looking their bodies up item by item would be a quarter of the
   /// detection on 100,000 particles).
   void build(const std::vector<Vec3>& positions, const std::vector<double>& reaches, double cellSize,
     const std::vector<std::int32_t>& groups = {});
@@ -137,7 +137,7 @@ void UniformGrid::scanHashed(std::int64_t ix, std::int64_t iy, std::int64_t iz, 
   // Two runs share a bucket only when their starts are less than 3 apart (modulo the table):
   // rare, so each run is compared with the earlier ones and read as one range unless it
   // clashes or wraps; then bucket by bucket, skipping those an earlier run already read.
-  // (Sorting the 9 runs instead took about a quarter of the samples in a profile of the
+  // (Sorting the 9 runs instead takes about a quarter of the samples in a profile of the
   // detection on 100,000 particles.)
   const std::uint64_t size = Mask + 1;
   std::uint64_t first[9];

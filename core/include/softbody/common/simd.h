@@ -1,4 +1,4 @@
-// Four doubles at a time, for the element and constraint kernels (issue 15, item 2).
+// Four doubles at a time, for the element and constraint kernels.
 //
 // The lane type is a GCC/Clang vector extension, so the kernels are plain arithmetic written
 // once as templates over the lane type (`double` for one element, `Lanes4` for four), with no
@@ -199,7 +199,7 @@ SOFTBODY_SIMD_INLINE Vec3Lanes<T> cross(const Vec3Lanes<T>& a, const Vec3Lanes<T
 /// other indices of an index record, e.g. 2 for an edge's ends). Four points are transposed:
 /// each point's x and y move as one 16-byte pair, z alone (never reading past a point's 24
 /// bytes). Against lane-by-lane inserts this takes a third of the shuffles, and the shuffle
-/// port was what limited the kernels.
+/// port is what limits the kernels with such inserts.
 template <class T, class Index>
 SOFTBODY_SIMD_INLINE Vec3Lanes<T> gather3(const double* xyz, const Index* idx, std::size_t stride)
 {

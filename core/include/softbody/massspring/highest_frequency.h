@@ -56,7 +56,7 @@ inline constexpr int kFrequencyLanczosSteps = 40;
 /// squeezed or swollen adds k' (V - V0) d2V/dp2, so the top frequency grows with the strain.
 /// 1.2 covers 44% more stiffness. And a step right at the linear limit leaves the top modes
 /// barely damped (|amplification| near 1): on the floor, Midpoint's resting box
-/// (Simulation.BodyFallsAndComesToRestOnTheFloor) kept points moving at 0.069 m/s (2.5 g h) with
+/// (Simulation.BodyFallsAndComesToRestOnTheFloor) keeps points moving at 0.069 m/s (2.5 g h) with
 /// 0.9 of the unmargined limit, 0.048 m/s with this margin, 0.028 m/s (1.5 g h) at 0.6.
 inline constexpr double kDeformationMargin = 1.2;
 

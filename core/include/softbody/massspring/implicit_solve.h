@@ -6,9 +6,11 @@
 // every iteration (a primal active-set method): the line search starts from the longest step
 // at which no free point crosses the floor (the ratio test), points that reach it are held on
 // it and from then on slide along it (the motion filter), and a held point the floor would
-// have to pull down (Phi's gradient pointing into the floor) is released. So the floor holds exactly at every iterate and the rest of the body answers it in
-// the same step, instead of being crushed by a projection afterwards. Contact is frictionless
-// and inelastic, as the explicit integrators' floor.
+// have to pull down (Phi's gradient pointing into the floor) is released. So the floor holds
+// exactly at every iterate and the rest of the body answers it in the same step, instead of
+// being crushed by a projection afterwards. Contact is inelastic, with Coulomb friction: a point
+// static friction holds is fixed through the next step's solve (Stuck), and a point held on the
+// floor leaves the step with the floor's contact response (endVelocity).
 #pragma once
 
 #include "softbody/common/state.h"

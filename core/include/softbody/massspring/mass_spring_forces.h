@@ -22,7 +22,7 @@ struct ForceScratch
   /// Force on corner k of tet t, at 4 t + k: s_t dV/dp_k [N]. Computed in the tet pass, where
   /// the tet's corners are at hand, so the per-vertex gather reads one vector per corner
   /// instead of the tet's indices, three positions and a cross product (on a 180k-tet TetGen
-  /// mesh the gather was 60% of the force evaluation).
+  /// mesh a gather doing that work is 60% of the force evaluation).
   std::vector<Vec3> tetCornerForce;
 };
 

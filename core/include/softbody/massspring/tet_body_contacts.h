@@ -26,7 +26,7 @@ FloorPlane floorHoldingPlane(const TetMesh& mesh, const Scene& scene);
 /// point below `plane` is lifted rigidly along its normal by its deepest penetration, so it
 /// starts on the plane at rest. Projecting the points one by one in the first step instead
 /// crushes the bottom layer and throws the body up (a stiff block placed on the floor, within
-/// the contact margin, went 10 cm up). Bodies with pinned points (inverse mass 0) stay where
+/// the contact margin, goes 10 cm up). Bodies with pinned points (inverse mass 0) stay where
 /// they are and are pushed onto the plane by the contacts. Returns the bodies lifted.
 std::size_t liftBodiesOntoPlane(const TetMesh& mesh, const std::vector<double>& inverseMass,
   const FloorPlane& plane, std::vector<Vec3>& positions);

@@ -22,8 +22,8 @@
 // iteration's corrections, makes the friction bound the whole normal correction of the
 // substep: the weight of the layers above a bottom particle reaches it over several
 // iterations, and comparing iteration by iteration would give a multi-layer body the friction
-// of its bottom layer only (the velocity-level floor friction before this needed a separate
-// "carried push" term for that).
+// of its bottom layer only (a velocity-level floor friction would need a separate "carried
+// push" term for that).
 #pragma once
 
 #include "softbody/collision/contact.h"

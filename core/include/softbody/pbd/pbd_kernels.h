@@ -93,9 +93,9 @@ struct ProjectionLanes
 /// dLambda = -scale (C + alphaTilde lambda) / (w0 + w1 + alphaTilde), the corrections are
 /// dx0 = w0 dLambda d/|d| and dx1 = -w1 dLambda d/|d|, computed as (w p) d with the one
 /// division p = -scale (C + alphaTilde lambda) / ((w0 + w1 + alphaTilde) |d|), and dLambda = p |d|
-/// (four divisions once, when n = d/|d| was divided component by component; two until
-/// 2026-12-01: the sequential Gauss-Seidel on the 180k-tet ellipsoid took 3.01-3.23 ms per
-/// iteration with two per link and two per tet, 2.78-2.84 with one each, bench_wide_kernels).
+/// (dividing n = d/|d| component by component would take four; the sequential Gauss-Seidel on
+/// the 180k-tet ellipsoid takes 2.78-2.84 ms per iteration with one division per link and one
+/// per tet, 3.01-3.23 with two each, bench_wide_kernels).
 template <class T>
 SOFTBODY_SIMD_INLINE ProjectionLanes<T, 2> distance(const simd::Vec3Lanes<T>& x0, const simd::Vec3Lanes<T>& x1,
   T w0, T w1, T rest, bool atLeast, T lambda, T scale, T alphaTilde)
@@ -134,8 +134,8 @@ SOFTBODY_SIMD_INLINE ProjectionLanes<T, 2> distance(const simd::Vec3Lanes<T>& x0
 ///   dLambda = 36 q,   dx_k = w_k dLambda g_k = (6 q w_k) G_k.
 /// One division per tet: the constraint is evaluated in units of 6 V (6 C = e1.G1 - 6 V0, no
 /// division for the volume) and q = -scale 6 (C + alphaTilde lambda) / (6 (sum_k w_k |G_k|^2 +
-/// 36 alphaTilde)). The gradients divided by 6 once took nine more and the volume one (the
-/// divider's throughput was the kernel's bottleneck: see README, Performance).
+/// 36 alphaTilde)). Dividing the gradients by 6 would take nine more and the volume one more
+/// (the divider's throughput is the kernel's bottleneck: see README, Performance).
 ///
 /// Non-inversion: a tet crushed below kLeastVolumeFraction of its rest volume is projected as
 /// the hard inequality V >= kLeastVolumeFraction * restVolume (no compliance, its multiplier

@@ -146,8 +146,8 @@ void coloredGaussSeidelSweep(
     // One contiguous part of the color per thread, the same part every color: the constraints
     // are stored sorted by their vertices within each color (pbd_setup.cpp, mesh/reorder.h), so
     // each core works on the same region of the body color after color. With TBB's dynamic
-    // split the parts moved between the cores every color, pulling the vertices' cache lines
-    // across with them: 2 threads ran slower than 1 (issue 15).
+    // split the parts would move between the cores every color, pulling the vertices' cache
+    // lines across with them: 2 threads would run slower than 1.
     if constexpr (hasWideKernel)
     {
       if (schedule.storedByColor)

@@ -1,4 +1,4 @@
-// The colored Gauss-Seidel solver's kernels, four constraints at a time (issue 15, item 2).
+// The colored Gauss-Seidel solver's kernels, four constraints at a time.
 //
 // Within one graph color no two constraints share a movable particle, so a color's
 // constraints can be projected in any grouping: these project [begin, end) of a batch stored
