@@ -16,7 +16,7 @@
 #ifndef vtkSoftBodyFrameCache_h
 #define vtkSoftBodyFrameCache_h
 
-#include "softbody/massspring/explicit_integrators.h" // softbody::DynamicState
+#include "softbody/integrators/explicit_integrators.h" // softbody::DynamicState
 
 #include <algorithm>
 #include <cmath>

@@ -24,7 +24,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "softbody/common/errors.h"
-#include "softbody/massspring/stability_report.h"
+#include "softbody/stability/stability_report.h"
 
 #include <cmath>
 #include <limits>

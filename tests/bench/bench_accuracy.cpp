@@ -46,7 +46,7 @@
 #include "bench_options.h"
 
 #include "softbody/common/errors.h"
-#include "softbody/massspring/highest_frequency.h"
+#include "softbody/stability/highest_frequency.h"
 #include "softbody/massspring/mass_spring_forces.h"
 #include "softbody/massspring/mass_spring_setup.h"
 #include "softbody/massspring/mass_spring_simulation.h"

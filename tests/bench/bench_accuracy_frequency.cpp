@@ -1,6 +1,6 @@
 #include "bench_accuracy_frequency.h"
 
-#include "softbody/massspring/highest_frequency.h"
+#include "softbody/stability/highest_frequency.h"
 #include "softbody/massspring/mass_spring_forces.h"
 #include "softbody/massspring/mass_spring_setup.h"
 #include "softbody/mesh/mesh_generators.h"

@@ -7,7 +7,7 @@
 #include "vtkSoftBodyMeshQuality.h"
 #include "vtkTable.h"
 
-#include "softbody/massspring/stability_report.h"
+#include "softbody/stability/stability_report.h"
 
 #include <numeric>
 

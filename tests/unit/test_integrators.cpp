@@ -1,5 +1,5 @@
 // The four integrators against analytic solutions: free fall and the harmonic oscillator.
-#include "softbody/massspring/explicit_integrators.h"
+#include "softbody/integrators/explicit_integrators.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
 

@@ -3,7 +3,7 @@
 #include "softbody/common/errors.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
-#include "softbody/massspring/stability_report.h"
+#include "softbody/stability/stability_report.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // 6_tetra_bad.msh has one inverted tet, IPC's bunny.msh is full of slivers (worst ~0.23
 // degrees). Skipped when the folder is absent.
 #include "softbody/mesh/mesh_io.h"
-#include "softbody/massspring/stability_report.h"
+#include "softbody/stability/stability_report.h"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 #include "softbody/massspring/mass_spring_setup.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
-#include "softbody/massspring/stability.h"
+#include "softbody/stability/stability.h"
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 
 #include "softbody/common/errors.h"
 #include "softbody/common/validation.h"
-#include "softbody/massspring/stability.h"
+#include "softbody/stability/stability.h"
 
 #include <cmath>
 #include <limits>

@@ -2,7 +2,7 @@
 // settings (integrator, step, gravity, floor, strain limit). Immutable once the stepper is made.
 #pragma once
 
-#include "softbody/massspring/explicit_integrators.h"
+#include "softbody/integrators/explicit_integrators.h"
 #include "softbody/material/material.h"
 #include "softbody/mesh/tet_mesh.h"
 #include "softbody/scene/scene.h"

@@ -5,7 +5,7 @@
 #include "softbody/collision/collision_detector.h"
 #include "softbody/common/simulation.h"
 #include "softbody/massspring/contact_response.h"
-#include "softbody/massspring/explicit_integrators.h"
+#include "softbody/integrators/explicit_integrators.h"
 #include "softbody/massspring/implicit_euler.h"
 #include "softbody/massspring/mass_spring_forces.h"
 #include "softbody/massspring/mass_spring_settings.h"

@@ -1,9 +1,9 @@
-#include "softbody/massspring/stability_report.h"
+#include "softbody/stability/stability_report.h"
 
 #include "softbody/common/errors.h"
 #include "softbody/material/mass.h"
 #include "softbody/common/parallel.h"
-#include "softbody/massspring/stability.h"
+#include "softbody/stability/stability.h"
 #include "softbody/mesh/topology.h"
 
 #include <algorithm>

@@ -9,7 +9,7 @@
 // highestFrequencyBound, stableTimeStep), so its numbers are the simulation's numbers.
 #pragma once
 
-#include "softbody/massspring/explicit_integrators.h"
+#include "softbody/integrators/integrator.h"
 #include "softbody/material/material.h"
 #include "softbody/mesh/tet_mesh.h"
 

@@ -1,4 +1,4 @@
-#include "softbody/massspring/highest_frequency.h"
+#include "softbody/stability/highest_frequency.h"
 
 #include "softbody/common/geometry.h"
 #include "softbody/common/parallel.h"

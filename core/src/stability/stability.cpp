@@ -1,4 +1,4 @@
-#include "softbody/massspring/stability.h"
+#include "softbody/stability/stability.h"
 
 #include <algorithm>
 #include <cmath>

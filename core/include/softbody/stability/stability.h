@@ -9,8 +9,8 @@
 // is stable for h <= beta (under-damped modes) and h <= ~2 / (beta w^2) (over-damped ones).
 #pragma once
 
-#include "softbody/massspring/explicit_integrators.h"
-#include "softbody/massspring/highest_frequency.h"
+#include "softbody/integrators/integrator.h"
+#include "softbody/stability/highest_frequency.h"
 #include "softbody/material/material.h"
 
 #include <vector>

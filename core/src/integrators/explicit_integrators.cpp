@@ -1,4 +1,4 @@
-#include "softbody/massspring/explicit_integrators.h"
+#include "softbody/integrators/explicit_integrators.h"
 
 #include <stdexcept>
 
