@@ -51,12 +51,16 @@
 #include <vector> // for std::vector
 
 class vtkPolyData;
-class vtkTable;
 struct vtkSoftBodyCoreSettings;
+struct vtkSoftBodyObstacleConnection;
 class vtkUnstructuredGrid;
 namespace softbody
 {
-struct ImplicitConvergence;
+struct ObstacleSurface;
+}
+namespace vtkSoftBodyOutputAssembly
+{
+struct Outputs;
 }
 
 class SOFTBODYFILTERS_EXPORT vtkSoftBodyFilter : public vtkUnstructuredGridAlgorithm
@@ -342,41 +346,40 @@ private:
   void operator=(const vtkSoftBodyFilter&) = delete;
 
   class vtkInternals;
-  struct ObstacleConnection;
   enum class AdvanceResult
   {
     Done,
     Aborted,
-    NeedsObstacles ///< a moving obstacle is needed at Internals' ObstacleRequestTime
+    NeedsObstacles, ///< a moving obstacle is needed at a time not fetched yet
+    Failed          ///< reported with vtkErrorMacro
   };
 
+  /// The requested time, clamped to [0, EndTime] (0 when none or NaN).
+  double RequestedTime(vtkInformation* requestInfo) const;
+  /// The bodies this process simulates: under MPI this rank's whole bodies, gathered from the
+  /// ranks' pieces (`surfaceConnected` or body collisions keep them all on rank 0); else the
+  /// input. Null when there is nothing to simulate here (a rank without a body, an empty
+  /// streamed piece).
+  vtkUnstructuredGrid* LocalInput(vtkUnstructuredGrid* input,
+    const vtkSoftBodyCoreSettings& settings, bool surfaceConnected, vtkInformation* requestInfo);
+  /// Prepares the simulation and brings it to time `t`; core's exceptions are reported here
+  /// (Failed) and discard a simulation that threw.
+  AdvanceResult Simulate(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
+    const std::vector<vtkSoftBodyObstacleConnection>& obstacles,
+    std::vector<softbody::ObstacleSurface> deliveredNow, double t);
+  /// Fills every output port from the simulation at its current time; false (reported) when
+  /// the Surface input cannot be bound to the body.
+  bool AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData* surface,
+    const vtkSoftBodyOutputAssembly::Outputs& outputs);
   /// Builds the simulation (and empties the cache) unless the input and the core settings it
   /// was built from are unchanged. Builds before it replaces: when the new settings or input
   /// are refused (false, or core's InvalidInputError), the current simulation and its cached
   /// frames stay, so that correcting the value finds them again.
   bool PrepareSimulation(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
-    const std::vector<ObstacleConnection>& obstacles);
-  /// Builds a Mass-Spring simulation into `built` (Simulation, DeviceUsed, GLRenderer,
-  /// DeviceWarning), leaving the filter's own state alone. `withObstacles` (or body
-  /// collisions) keeps it on the CPU: the GPU stepper collides with the floor only.
-  bool CreateMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
-    bool withObstacles, vtkInternals& built);
-  /// Whether the selected method's Collisions mode is other than Off.
-  static bool CollisionsOn(const vtkSoftBodyCoreSettings& settings);
-  /// Whether the selected method's bodies collide with each other (Collisions with Bodies).
-  static bool BodiesCollide(const vtkSoftBodyCoreSettings& settings);
-  /// The step the simulation takes: the frame interval split into equal steps no larger than
-  /// its step size (what the last advance used; before any, what the frames will use).
-  double StepUsed() const;
+    const std::vector<vtkSoftBodyObstacleConnection>& obstacles);
   /// Brings the simulation to time `t` through the cache, or as far as the moving obstacles
   /// fetched so far allow (NeedsObstacles: the next pass fetches the missing time).
   AdvanceResult AdvanceTo(double t);
-  /// `withSurface`: a Surface input is bound (its binding warning joins Warnings).
-  void FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, bool withSurface);
-  void FillConvergence(vtkTable* output);
-  /// The implicit integrators' solve report; null for explicit integrators and PBD.
-  const softbody::ImplicitConvergence* ImplicitSolveReport() const;
-  void FillParticles(vtkUnstructuredGrid* mesh, vtkPolyData* output);
 
   std::unique_ptr<vtkInternals> Internals;
   unsigned long long SimulatedStepsTotal = 0;
