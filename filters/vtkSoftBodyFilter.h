@@ -43,6 +43,7 @@
 
 #include "SoftBodyFiltersModule.h" // for export macro
 #include "vtkSoftBodyParameterMacros.h" // for vtkSoftBodyParameterMacro
+#include "vtkSoftBodyParameters.h"      // for vtkSoftBodyParameters
 #include "vtkUnstructuredGridAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
@@ -50,12 +51,16 @@
 #include <vector> // for std::vector
 
 class vtkPolyData;
-class vtkTable;
 struct vtkSoftBodyCoreSettings;
+struct vtkSoftBodyObstacleConnection;
 class vtkUnstructuredGrid;
 namespace softbody
 {
-struct ImplicitConvergence;
+struct ObstacleSurface;
+}
+namespace vtkSoftBodyOutputAssembly
+{
+struct Outputs;
 }
 
 class SOFTBODYFILTERS_EXPORT vtkSoftBodyFilter : public vtkUnstructuredGridAlgorithm
@@ -65,127 +70,21 @@ public:
   vtkTypeMacro(vtkSoftBodyFilter, vtkUnstructuredGridAlgorithm)
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  enum MethodType
-  {
-    MASS_SPRING = 0,
-    PBD = 1,
-    XPBD = 2
-  };
-  enum XPBDMaterialType
-  {
-    XPBD_COMPLIANCES = 0,    ///< the XPBD*Compliance properties, uniform per constraint type
-    XPBD_YOUNGS_MODULUS = 1  ///< per-element compliances from YoungsModulus and PoissonRatio
-  };
-  enum SolverType
-  {
-    GAUSS_SEIDEL = 0,
-    JACOBI = 1,
-    PARALLEL_GAUSS_SEIDEL = 2
-  };
-  enum IntegratorType
-  {
-    EULER = 0,
-    MIDPOINT = 1,
-    VERLET = 2,
-    EULER_CROMER = 3,
-    IMPLICIT_EULER = 4,
-    PROJECTIVE_DYNAMICS = 5
-  };
-  enum MaterialModeType
-  {
-    PHYSICAL = 0,
-    RAW_CONSTANTS = 1
-  };
-  enum MassDistributionType
-  {
-    AVERAGE_INCIDENT_VOLUME = 0,
-    LUMPED_VOLUME = 1
-  };
-  enum InvertedTetsType
-  {
-    REORIENT = 0,
-    REFUSE = 1
-  };
-  enum DeviceType
-  {
-    DEVICE_CPU = 0,
-    DEVICE_GPU_EGL = 1
-  };
-  enum CollisionsType
-  {
-    COLLISIONS_OFF = 0,            ///< nothing, not even the floor
-    COLLISIONS_OBSTACLES = 1,      ///< the floor and the Obstacles input (default)
-    COLLISIONS_BODIES = 2,         ///< + the input's connected bodies against each other
-    COLLISIONS_BODIES_AND_SELF = 3 ///< + each body against itself
-  };
-  enum BroadPhaseType
-  {
-    BROAD_PHASE_AUTOMATIC = 0,
-    BROAD_PHASE_BRUTE_FORCE = 1,
-    BROAD_PHASE_UNIFORM_GRID = 2,
-    BROAD_PHASE_OCTREE = 3
-  };
-
-  /**
-   * Every property of the filter as the user set it (setters never clamp), with its default.
-   * One translation unit (vtkSoftBodySettings) turns it into core settings; Mesh Quality keeps
-   * the same struct for the properties it shares.
-   */
-  struct Parameters
-  {
-    int Method = MASS_SPRING;
-    int Device = DEVICE_CPU;
-    int Integrator = EULER_CROMER;
-    double TimeStep = 0.0;
-    double ImplicitTolerance = 1.0e-3;
-    int ImplicitMaxIterations = 100;
-    double EndTime = 3.0;
-    double FrameInterval = 0.04;
-    double Gravity[3] = { 0.0, 0.0, -9.81 };
-    vtkTypeBool Floor = 1;
-    double FloorOrigin[3] = { 0.0, 0.0, 0.0 };
-    double FloorNormal[3] = { 0.0, 0.0, 1.0 };
-    std::string PinnedPointsArray;
-    int MaterialMode = PHYSICAL;
-    double YoungsModulus = 1.0e5;
-    double PoissonRatio = 0.3;
-    double Density = 1100.0;
-    double DampingTime = 2.0e-3;
-    // Raw-mode defaults: the constructor copies them from softbody::RawConstants.
-    double DistanceStiffness = 0.0;
-    double DistanceDamping = 0.0;
-    double VolumeStiffness = 0.0;
-    double VolumeDamping = 0.0;
-    double TotalMass = 0.0;
-    int MassDistribution = AVERAGE_INCIDENT_VOLUME;
-    double MaxInverseMass = 0.0;
-    double StrainLimit = 0.0;
-    int StrainLimitIterations = 4;
-    int InvertedTets = REORIENT;
-    int CacheMemoryLimit = 512;
-    int Solver = GAUSS_SEIDEL;
-    int Iterations = 10;
-    double ResidualTolerance = 0.0;
-    double Relaxation = 1.0;
-    int Substeps = 1;
-    double PBDLinkStiffness = 1.0;
-    double PBDVolumeStiffness = 1.0;
-    double PBDPinStiffness = 1.0;
-    double XPBDLinkCompliance = 1.0e-4;
-    double XPBDVolumeCompliance = 1.0e-10;
-    double XPBDPinCompliance = 0.0;
-    int XPBDMaterial = XPBD_COMPLIANCES;
-    double BreakingStrain = 0.0;
-    double PlasticYield = 0.0;
-    double PlasticCreep = 0.0;
-    int Collisions = COLLISIONS_OBSTACLES;
-    int BroadPhase = BROAD_PHASE_AUTOMATIC;
-    double CollisionMargin = 0.0;
-    double StaticFriction = 0.3;
-    double DynamicFriction = 0.3;
-    double Restitution = 0.0;
-    double VelocityDamping = 0.0;
-  };
+  /// Every property as the user set it, with its default (vtkSoftBodyParameters.h).
+  using Parameters = vtkSoftBodyParameters;
+#ifndef __VTK_WRAP__
+  // The property enumerations, as vtkSoftBodyFilter::MASS_SPRING, vtkSoftBodyFilter::XPBD, ...
+  using enum vtkSoftBodyParameters::MethodType;
+  using enum vtkSoftBodyParameters::XPBDMaterialType;
+  using enum vtkSoftBodyParameters::SolverType;
+  using enum vtkSoftBodyParameters::IntegratorType;
+  using enum vtkSoftBodyParameters::MaterialModeType;
+  using enum vtkSoftBodyParameters::MassDistributionType;
+  using enum vtkSoftBodyParameters::InvertedTetsType;
+  using enum vtkSoftBodyParameters::DeviceType;
+  using enum vtkSoftBodyParameters::CollisionsType;
+  using enum vtkSoftBodyParameters::BroadPhaseType;
+#endif
 #ifndef __VTK_WRAP__
   const Parameters& GetParameters() const { return this->P; }
 #endif
@@ -278,8 +177,8 @@ public:
    * (Coulomb, >= 0; default 0.3 both): a contact sticks while the tangential push is below
    * StaticFriction times the normal one and slides with DynamicFriction otherwise.
    * Restitution in [0, 1]: the fraction of the normal approach speed kept after an impact.
-   * They replace the single Friction of earlier versions (PBD/XPBD floor only): an alias
-   * setting both could not show in the panel or a saved state which value is in force.
+   * The two frictions are separate properties, with no alias setting both, so that the panel
+   * and a saved state always show which value is in force.
    */
   vtkSoftBodyParameterMacro(Collisions, int);
   vtkSoftBodyParameterMacro(BroadPhase, int);
@@ -447,41 +346,40 @@ private:
   void operator=(const vtkSoftBodyFilter&) = delete;
 
   class vtkInternals;
-  struct ObstacleConnection;
   enum class AdvanceResult
   {
     Done,
     Aborted,
-    NeedsObstacles ///< a moving obstacle is needed at Internals' ObstacleRequestTime
+    NeedsObstacles, ///< a moving obstacle is needed at a time not fetched yet
+    Failed          ///< reported with vtkErrorMacro
   };
 
+  /// The requested time, clamped to [0, EndTime] (0 when none or NaN).
+  double RequestedTime(vtkInformation* requestInfo) const;
+  /// The bodies this process simulates: under MPI this rank's whole bodies, gathered from the
+  /// ranks' pieces (`surfaceConnected` or body collisions keep them all on rank 0); else the
+  /// input. Null when there is nothing to simulate here (a rank without a body, an empty
+  /// streamed piece).
+  vtkUnstructuredGrid* LocalInput(vtkUnstructuredGrid* input,
+    const vtkSoftBodyCoreSettings& settings, bool surfaceConnected, vtkInformation* requestInfo);
+  /// Prepares the simulation and brings it to time `t`; core's exceptions are reported here
+  /// (Failed) and discard a simulation that threw.
+  AdvanceResult Simulate(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
+    const std::vector<vtkSoftBodyObstacleConnection>& obstacles,
+    std::vector<softbody::ObstacleSurface> deliveredNow, double t);
+  /// Fills every output port from the simulation at its current time; false (reported) when
+  /// the Surface input cannot be bound to the body.
+  bool AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData* surface,
+    const vtkSoftBodyOutputAssembly::Outputs& outputs);
   /// Builds the simulation (and empties the cache) unless the input and the core settings it
   /// was built from are unchanged. Builds before it replaces: when the new settings or input
   /// are refused (false, or core's InvalidInputError), the current simulation and its cached
   /// frames stay, so that correcting the value finds them again.
   bool PrepareSimulation(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
-    const std::vector<ObstacleConnection>& obstacles);
-  /// Builds a Mass-Spring simulation into `built` (Simulation, DeviceUsed, GLRenderer,
-  /// DeviceWarning), leaving the filter's own state alone. `withObstacles` (or body
-  /// collisions) keeps it on the CPU: the GPU stepper collides with the floor only.
-  bool CreateMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
-    bool withObstacles, vtkInternals& built);
-  /// Whether the selected method's Collisions mode is other than Off.
-  static bool CollisionsOn(const vtkSoftBodyCoreSettings& settings);
-  /// Whether the selected method's bodies collide with each other (Collisions with Bodies).
-  static bool BodiesCollide(const vtkSoftBodyCoreSettings& settings);
-  /// The step the simulation takes: the frame interval split into equal steps no larger than
-  /// its step size (what the last advance used; before any, what the frames will use).
-  double StepUsed() const;
+    const std::vector<vtkSoftBodyObstacleConnection>& obstacles);
   /// Brings the simulation to time `t` through the cache, or as far as the moving obstacles
   /// fetched so far allow (NeedsObstacles: the next pass fetches the missing time).
   AdvanceResult AdvanceTo(double t);
-  /// `withSurface`: a Surface input is bound (its binding warning joins Warnings).
-  void FillMesh(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, bool withSurface);
-  void FillConvergence(vtkTable* output);
-  /// The implicit integrators' solve report; null for explicit integrators and PBD.
-  const softbody::ImplicitConvergence* ImplicitSolveReport() const;
-  void FillParticles(vtkUnstructuredGrid* mesh, vtkPolyData* output);
 
   std::unique_ptr<vtkInternals> Internals;
   unsigned long long SimulatedStepsTotal = 0;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "vtkSoftBodyFilter.h"
+#include "vtkSoftBodyOutputPort.h"
 
 #include "vtkCellType.h"
 #include "vtkCommand.h"
@@ -200,7 +201,7 @@ struct CapturedFilter
   /// Updates at time t; returns the pipeline's success flag.
   bool Update(double t) { return this->Filter->UpdateTimeStep(t) != 0; }
 
-  vtkUnstructuredGrid* Mesh() { return vtkUnstructuredGrid::SafeDownCast(this->Filter->GetOutput(0)); }
+  vtkUnstructuredGrid* Mesh() { return vtkUnstructuredGrid::SafeDownCast(this->Filter->GetOutput(vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Mesh))); }
 };
 
 /// The points of a data set as doubles, for bitwise comparisons.

@@ -102,7 +102,7 @@ int main()
     "the first stage (forces) has been timed: " << (stageSeconds ? stageSeconds->GetTuple1(0) : -1.0));
   SB_CHECK(mesh->GetFieldData()->GetAbstractArray("Warnings") != nullptr, "Warnings array present");
 
-  vtkPolyData* particles = vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(1));
+  vtkPolyData* particles = vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Particles)));
   SB_CHECK(particles && particles->GetNumberOfPoints() == box->GetNumberOfPoints() &&
       particles->GetNumberOfVerts() == box->GetNumberOfPoints(),
     "particles: the points, one vertex each");
@@ -156,7 +156,7 @@ int main()
     g.Filter->SetInputData(1, cube->GetOutput());
     g.Filter->SetEndTime(1.0);
     SB_CHECK(g.Update(1.0), g.Messages->AllErrors());
-    vtkPolyData* skinned = vtkPolyData::SafeDownCast(g.Filter->GetOutputDataObject(3));
+    vtkPolyData* skinned = vtkPolyData::SafeDownCast(g.Filter->GetOutputDataObject(vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Surface)));
     const double surfaceMinZ = skinned ? MinZ(sbtest::PointsOf(skinned)) : -1.0;
     SB_CHECK(surfaceMinZ >= -tolerance && surfaceMinZ < 1e-3,
       "the skinned surface rests on the floor: min z = " << surfaceMinZ);

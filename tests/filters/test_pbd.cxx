@@ -57,7 +57,7 @@ int main()
       SB_CHECK(now[2] < rest[2] - 0.2, "the free edge falls (z " << now[2] << ")");
       SB_CHECK(sbtest::FieldValue(f.Mesh(), "Iterations") == 12, "Iterations field");
       SB_CHECK(sbtest::FieldValue(f.Mesh(), "Residual") >= 0, "Residual field");
-      vtkTable* table = vtkTable::SafeDownCast(f.Filter->GetOutputDataObject(2));
+      vtkTable* table = vtkTable::SafeDownCast(f.Filter->GetOutputDataObject(vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Convergence)));
       SB_CHECK(table && table->GetNumberOfRows() == 12, "one convergence row per iteration");
       if (table && table->GetNumberOfRows() == 12)
       {

@@ -54,7 +54,7 @@ int main()
   }
   SB_CHECK(tipSag > 1e-3, "the free end should sag (max drop " << tipSag << " m)");
 
-  vtkPolyData* particles = vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(1));
+  vtkPolyData* particles = vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Particles)));
   vtkDataArray* inverseMass = particles->GetPointData()->GetArray("InverseMass");
   for (std::size_t i = 0; inverseMass && i < isPinned.size(); ++i)
   {

@@ -108,7 +108,7 @@ int main()
     }
     SB_CHECK(std::abs(sbtest::FieldValue(f.Mesh(), "SimulationTime") - 0.5) < 1e-12,
       "SimulationTime is " << sbtest::FieldValue(f.Mesh(), "SimulationTime"));
-    SB_CHECK(vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(1))->GetNumberOfVerts() ==
+    SB_CHECK(vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Particles)))->GetNumberOfVerts() ==
         box->GetNumberOfPoints(),
       "particles: one vertex per point");
 

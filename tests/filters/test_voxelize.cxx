@@ -41,7 +41,7 @@ void CheckSkinnedFreeFall(vtkUnstructuredGrid* body, vtkPolyData* surface, const
   f.Filter->SetEndTime(0.5);
   f.Filter->SetFrameInterval(0.25);
   SB_CHECK(f.Update(0.0), f.Messages->AllErrors());
-  vtkPolyData* skinned = vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(3));
+  vtkPolyData* skinned = vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Surface)));
   SB_CHECK(skinned && skinned->GetNumberOfPoints() == surface->GetNumberOfPoints() &&
       skinned->GetNumberOfCells() == surface->GetNumberOfCells(),
     what << ": the Surface output has the surface's points and cells");
@@ -58,7 +58,7 @@ void CheckSkinnedFreeFall(vtkUnstructuredGrid* body, vtkPolyData* surface, const
   SB_CHECK(skinned->GetPointData()->GetArray("Marker") != nullptr, what << ": surface arrays pass through");
 
   SB_CHECK(f.Update(0.5), f.Messages->AllErrors());
-  skinned = vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(3));
+  skinned = vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Surface)));
   const double* drop = f.Mesh()->GetPointData()->GetArray("Displacement")->GetTuple3(0);
   const double shift[3] = { drop[0], drop[1], drop[2] };
   SB_CHECK(shift[2] < -1.0, what << ": the body fell (" << shift[2] << " m)");
@@ -193,7 +193,7 @@ int main()
     f.Filter->SetFrameInterval(0.1);
     f.Filter->SetFloor(0);
     SB_CHECK(f.Update(0.2), "Mass-Spring on the voxel tets: " << f.Messages->AllErrors());
-    vtkPolyData* skinned = vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(3));
+    vtkPolyData* skinned = vtkPolyData::SafeDownCast(f.Filter->GetOutputDataObject(vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Surface)));
     SB_CHECK(skinned && skinned->GetNumberOfPoints() == surface->GetNumberOfPoints(), "skinned surface");
     const double drop = f.Mesh()->GetPointData()->GetArray("Displacement")->GetTuple3(0)[2];
     SB_CHECK(std::abs(drop + 0.5 * 9.81 * 0.04) < 0.02, "it falls about g t^2 / 2 (" << drop << " m)");

@@ -1,0 +1,116 @@
+#include "vtkSoftBodySimulationFactory.h"
+
+#include "vtkSoftBodyCollisionRules.h"
+#include "vtkSoftBodyInputConversion.h"
+#include "vtkSoftBodySettings.h"
+
+#include "softbody/massspring/mass_spring_reordered.h"
+#include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/mesh/reorder.h"
+#ifdef SOFTBODY_WITH_GPU
+#include "softbody/gpu/mass_spring_gpu_simulation.h"
+#endif
+
+#include <utility>
+
+namespace
+{
+/// The GPU mass-spring stepper, or null with the reason why not (then the caller falls back
+/// to the CPU). Invalid input throws InvalidInputError as the CPU stepper would.
+std::unique_ptr<softbody::Simulation> MakeGpuSimulation(const softbody::BodyDescription& body,
+  const softbody::SceneSettings& scene, std::string& renderer, std::string& whyNot)
+{
+#ifdef SOFTBODY_WITH_GPU
+  // Built on the body renumbered for locality, like the CPU stepper (mass_spring_reordered.h),
+  // with its floor where the CPU's contacts hold points (floorPassScene).
+  const softbody::SceneSettings gpuScene = softbody::floorPassScene(body.mesh, scene);
+  return softbody::buildReorderedMassSpring(body, gpuScene, softbody::kDefaultVertexOrdering,
+    [&](softbody::BodyDescription stored) -> std::unique_ptr<softbody::Simulation> {
+      std::unique_ptr<softbody::gpu::MassSpringGpuSimulation> simulation =
+        softbody::gpu::tryCreateGpuMassSpring(stored, gpuScene, whyNot);
+      if (simulation)
+      {
+        renderer = simulation->glRenderer();
+      }
+      return simulation;
+    });
+#else
+  (void)body;
+  (void)scene;
+  (void)renderer;
+  whyNot = "this build of the plugin has no GPU backend (SOFTBODY_ENABLE_GPU was off).";
+  return nullptr;
+#endif
+}
+
+/// Mass-Spring on the device asked for, or on the CPU when the GPU cannot run it (the reason
+/// goes to DeviceWarning and to `warn`).
+bool BuildMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
+  bool withObstacles, const vtkSoftBodySimulationFactory::WarningSink& warn,
+  vtkSoftBodyBuiltSimulation& built, std::string& error)
+{
+  softbody::BodyDescription body;
+  error = vtkSoftBodyInputConversion::Convert(input, settings.PinnedPointsArray, body);
+  if (!error.empty())
+  {
+    return false;
+  }
+  body.material = settings.Material;
+
+  // Throws InvalidInputError for bad geometry or material; the caller reports it.
+  // The GPU stepper collides with the floor only (like the implicit integrators' fallback,
+  // the CPU runs what the GPU cannot, and says so).
+  if (settings.Device == vtkSoftBodyParameters::DEVICE_GPU_EGL &&
+    (withObstacles || vtkSoftBodyCollisionRules::BodiesCollide(settings)))
+  {
+    built.DeviceWarning = std::string("Device GPU (EGL) collides with the floor only, simulating "
+                                      "on the CPU: ") +
+      (withObstacles ? "an Obstacles input is connected" : "Collisions includes bodies") +
+      " (set Collisions to Obstacles and disconnect the Obstacles to run on the GPU).";
+    warn(built.DeviceWarning);
+  }
+  else if (settings.Device == vtkSoftBodyParameters::DEVICE_GPU_EGL)
+  {
+    std::string whyNot;
+    built.Simulation = MakeGpuSimulation(body, settings.Scene, built.GLRenderer, whyNot);
+    if (built.Simulation)
+    {
+      built.DeviceUsed = vtkSoftBodyParameters::DEVICE_GPU_EGL;
+      const softbody::CollisionSettings& c = settings.Scene.collisions;
+      if (settings.Scene.floorEnabled &&
+        (c.staticFriction > 0.0 || c.dynamicFriction > 0.0 || c.restitution > 0.0))
+      {
+        built.DeviceWarning = "Device GPU (EGL): the GPU's floor is frictionless and inelastic; "
+                              "StaticFriction, DynamicFriction and Restitution act on the CPU "
+                              "only (set them to 0 to silence this, or use Device CPU).";
+        warn(built.DeviceWarning);
+      }
+    }
+    else
+    {
+      built.DeviceWarning = "Device GPU (EGL) is unavailable, simulating on the CPU: " + whyNot;
+      warn(built.DeviceWarning);
+    }
+  }
+  if (!built.Simulation)
+  {
+    // Vertices renumbered along a space-filling curve, outputs in the input's order.
+    built.Simulation = softbody::makeMassSpringSimulation(std::move(body), settings.Scene);
+  }
+  return true;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+bool vtkSoftBodySimulationFactory::Build(vtkUnstructuredGrid* input,
+  const vtkSoftBodyCoreSettings& settings, bool withObstacles, const WarningSink& warn,
+  vtkSoftBodyBuiltSimulation& built, std::string& error)
+{
+  if (settings.Method == vtkSoftBodyParameters::PBD ||
+    settings.Method == vtkSoftBodyParameters::XPBD)
+  {
+    built.Simulation = built.PbdAdapter.Create(settings, input, error, built.Pbd);
+    return built.Simulation != nullptr;
+  }
+  return BuildMassSpring(input, settings, withObstacles, warn, built, error);
+}
