@@ -1,6 +1,5 @@
 #include "vtkSoftBodyFilter.h"
 
-#include "vtkSoftBodyCollisionRules.h"
 #include "vtkSoftBodyDistribution.h"
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyObstacleTimeline.h"
@@ -264,7 +263,7 @@ int vtkSoftBodyFilter::RequestData(
   // ones' surfaces at the time this pass requested them.
   std::vector<vtkSoftBodyObstacleConnection> obstacles;
   std::vector<softbody::ObstacleSurface> deliveredNow;
-  if (vtkSoftBodyCollisionRules::CollisionsOn(settings))
+  if (settings.SelectedScene().collisions.on())
   {
     const std::string obstacleError =
       vtkSoftBodyObstacleTimeline::Read(inputVector[2], obstacles, deliveredNow);
@@ -322,7 +321,7 @@ vtkUnstructuredGrid* vtkSoftBodyFilter::LocalInput(vtkUnstructuredGrid* input,
   {
     // Bodies that meet each other, or a Surface skinned onto them (rank 0 takes the whole
     // Surface, RequestUpdateExtent, and binds it to every body as the serial run does).
-    const bool bodiesCollide = vtkSoftBodyCollisionRules::BodiesCollide(settings);
+    const bool bodiesCollide = settings.SelectedScene().collisions.bodiesCollide();
     const bool together = bodiesCollide || surfaceConnected;
     vtkSoftBodyDistribution& distribution = this->Internals->Distribution;
     input = distribution.LocalBodies(input, controller, together);

@@ -41,6 +41,15 @@ struct vtkSoftBodyCoreSettings
   softbody::MassDistribution PbdMassDistribution = softbody::MassDistribution::AverageIncidentVolume;
 
   bool operator==(const vtkSoftBodyCoreSettings&) const = default;
+
+  /// The selected method's scene: what its rules (core's Scene::floorActive(),
+  /// CollisionSettings::on(), bodiesCollide()) are asked of.
+  const softbody::Scene& SelectedScene() const
+  {
+    return this->Method == vtkSoftBodyFilter::MASS_SPRING
+      ? static_cast<const softbody::Scene&>(this->Scene)
+      : static_cast<const softbody::Scene&>(this->Pbd);
+  }
 };
 
 namespace vtkSoftBodySettings

@@ -1,6 +1,5 @@
 #include "vtkSoftBodySimulationFactory.h"
 
-#include "vtkSoftBodyCollisionRules.h"
 #include "vtkSoftBodyInputConversion.h"
 #include "vtkSoftBodySettings.h"
 
@@ -61,7 +60,7 @@ bool BuildMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& 
   // The GPU stepper collides with the floor only (like the implicit integrators' fallback,
   // the CPU runs what the GPU cannot, and says so).
   if (settings.Device == vtkSoftBodyParameters::DEVICE_GPU_EGL &&
-    (withObstacles || vtkSoftBodyCollisionRules::BodiesCollide(settings)))
+    (withObstacles || settings.SelectedScene().collisions.bodiesCollide()))
   {
     built.DeviceWarning = std::string("Device GPU (EGL) collides with the floor only, simulating "
                                       "on the CPU: ") +
@@ -77,7 +76,7 @@ bool BuildMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& 
     {
       built.DeviceUsed = vtkSoftBodyParameters::DEVICE_GPU_EGL;
       const softbody::CollisionSettings& c = settings.Scene.collisions;
-      if (settings.Scene.floorEnabled &&
+      if (settings.Scene.floorActive() &&
         (c.staticFriction > 0.0 || c.dynamicFriction > 0.0 || c.restitution > 0.0))
       {
         built.DeviceWarning = "Device GPU (EGL): the GPU's floor is frictionless and inelastic; "
