@@ -16,7 +16,7 @@ constexpr double kMaxForcing = 0.1; // CG's relative accuracy in the first Newto
 
 ImplicitEulerStepper::ImplicitEulerStepper(const Topology& topology,
   const ElementConstants& constants, const PointMasses& masses, const SceneSettings& scene)
-  : Potential(topology, constants, masses, scene.gravity)
+  : Potential(topology, SpringNetwork(topology, constants), masses, scene.gravity)
   , Solver(Potential, scene, ImplicitStepSolver::LineSearch::Armijo)
   , Hessian(topology)
 {

@@ -18,7 +18,7 @@ ProjectiveDynamicsStepper::ProjectiveDynamicsStepper(const Topology& topology,
   : Topo(topology)
   , Constants(constants)
   , InverseMass(masses.inverseMass)
-  , Potential(topology, constants, masses, scene.gravity)
+  , Potential(topology, SpringNetwork(topology, constants), masses, scene.gravity)
   , Solver(Potential, scene, ImplicitStepSolver::LineSearch::Armijo)
   , History(scene.implicit.projectiveHistory)
 {

@@ -29,7 +29,7 @@ public:
   static constexpr int kMaxLinearIterations = 2000;
 
 private:
-  IncrementalPotential Potential;
+  SpringNetworkPotential Potential;
   ImplicitStepSolver Solver;
   BlockSparseMatrix Hessian;
   PcgScratch LinearWork;

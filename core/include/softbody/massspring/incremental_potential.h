@@ -21,22 +21,44 @@
 //            decomposition per tet and step. Their damping enters as (Kd / h) g g^T (see
 //            assembleHessian).
 // Pinned points (inverse mass 0) are fixed: their rows are inactive.
+//
+// The elastic and damping terms come from a material model (material/element_model.h): a list
+// of element families, each giving per element its energy, corner gradients and PSD Hessian
+// blocks. IncrementalPotential holds what does not depend on the model (inertia, gravity,
+// fixed points) and is what the solvers see (implicit_solve.h: one virtual call per evaluation,
+// none per element); ModelPotential<Model> runs the element pass, the per-point gather and the
+// Hessian assembly generically over the model's families, so a new model needs no code here.
+// The spring network's families (material/spring_network.h) are SpringNetworkPotential's.
+//
+// The order of every sum is fixed and independent of the thread count: element energies are
+// summed family by family, element by element; each point gathers its inertial term, then each
+// family's contributions in the family's corner order (for the network: Topology::vertexEdges,
+// then vertexTetCorners); each Hessian row is written by one task in the same order.
 #pragma once
 
 #include "softbody/common/geometry.h"
+#include "softbody/common/parallel.h"
 #include "softbody/massspring/block_sparse_matrix.h"
+#include "softbody/material/element_model.h"
 #include "softbody/material/mass.h"
+#include "softbody/material/spring_network.h"
 
+#include <cstdint>
+#include <tuple>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace softbody
 {
 
+/// The model-independent part of Phi and the interface the implicit solvers use.
 class IncrementalPotential
 {
 public:
-  IncrementalPotential(const Topology& topology, const ElementConstants& constants,
-    const PointMasses& masses, const Vec3& gravity);
+  virtual ~IncrementalPotential() = default;
+  IncrementalPotential(const IncrementalPotential&) = delete;
+  IncrementalPotential& operator=(const IncrementalPotential&) = delete;
 
   /// Starts a step of h from (x0, v0): the inertial target y and the frozen damping directions.
   void beginStep(const std::vector<Vec3>& x0, const std::vector<Vec3>& v0, double h);
@@ -45,13 +67,13 @@ public:
   /// explicit prediction, exact in free fall); x0 for fixed points.
   void predict(std::vector<Vec3>& x, bool withGravity) const;
 
-  /// Phi(x) [J]; also fills the gradient [N] (zero on fixed points) and keeps the tet data
+  /// Phi(x) [J]; also fills the gradient [N] (zero on fixed points) and keeps the element data
   /// that assembleHessian() reuses.
-  double evaluate(const std::vector<Vec3>& x, std::vector<Vec3>& gradient);
+  virtual double evaluate(const std::vector<Vec3>& x, std::vector<Vec3>& gradient) = 0;
 
   /// The PSD-projected Hessian at x, which must be the x of the last evaluate(); fixed rows get
   /// the identity. (Only Newton needs it, and only at accepted iterates: evaluate() skips it.)
-  void assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian);
+  virtual void assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian) = 0;
 
   /// Mass-weighted RMS of the residual acceleration, sqrt(sum_i |G_i|^2 / m_i / sum_i m_i)
   /// [m/s^2]: how far the step's equations are from holding, in the units of g.
@@ -63,16 +85,20 @@ public:
 
   const std::vector<char>& active() const { return Active; }
   double inverseMass(std::size_t i) const { return InverseMass[i]; }
-  std::size_t vertexCount() const { return Topo.vertexCount; }
+  std::size_t vertexCount() const { return Active.size(); }
   double step() const { return H; }
 
-private:
-  void elementPass(const std::vector<Vec3>& x);
-  void springHessianPass(const std::vector<Vec3>& x);
-  void findCornerSlots(const BlockSparseMatrix& hessian);
+protected:
+  IncrementalPotential(std::size_t vertexCount, const PointMasses& masses, const Vec3& gravity);
 
-  const Topology& Topo;
-  const ElementConstants& Constants;
+  /// The model's per-step data (its frozen damping directions) from X0 and H.
+  virtual void beginElements() = 0;
+  /// The inertia and gravity part of Phi(x) [J].
+  double inertialEnergy(const std::vector<Vec3>& x) const;
+
+  static constexpr std::size_t kElementGrain = 2048;
+  static constexpr std::size_t kVertexGrain = 512;
+
   const std::vector<double>& InverseMass;
   Vec3 Gravity;
   std::vector<char> Active; ///< free points (inverse mass > 0)
@@ -81,18 +107,203 @@ private:
   // Per step
   double H = 0.0;
   double SpeedScale = 0.0; ///< mass-weighted RMS speed at the step's start [m/s]
-  std::vector<Vec3> X0, Target;          ///< x0 and y
-  std::vector<Vec3> DampingAxis;         ///< n0 per edge
-  std::vector<std::array<Vec3, 4>> DampingGradient; ///< g0 per tet
-
-  // Per evaluate(): element data at x
-  std::vector<Vec3> SpringGradient;   ///< dPhi/dx_a of each edge (x_b gets its negative)
-  std::vector<Mat3> SpringHessian;    ///< its PSD block (elastic + damping); assembleHessian()
-  std::vector<std::array<Vec3, 4>> TetGradient; ///< dV/dx_c at x
-  std::vector<double> TetScale;       ///< K (V - V0): the volume gradient's factor
-  std::vector<double> TetDampingScale; ///< Kd / h (g0 . dx): the damping gradient's factor
-  std::vector<double> ElementEnergy;  ///< per edge then per tet, summed in a fixed order
-  std::vector<std::array<std::int32_t, 3>> CornerSlots; ///< per tet corner: its 3 edge blocks
+  std::vector<Vec3> X0, Target; ///< x0 and y
 };
+
+/// Phi with the elastic and damping terms of `Model`'s element families.
+template <ElementModel Model>
+class ModelPotential final : public IncrementalPotential
+{
+public:
+  /// `topology` gives the Hessian's pattern (BlockSparseMatrix) and must outlive this.
+  ModelPotential(const Topology& topology, Model model, const PointMasses& masses,
+    const Vec3& gravity)
+    : IncrementalPotential(topology.vertexCount, masses, gravity)
+    , Topo(topology)
+    , Elements(std::move(model))
+  {
+  }
+
+  double evaluate(const std::vector<Vec3>& x, std::vector<Vec3>& gradient) override;
+  void assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian) override;
+
+private:
+  /// What the potential keeps of one family: per step, per evaluate() and per assembly.
+  template <class F>
+  struct FamilyData
+  {
+    std::vector<typename F::StepData> step;       ///< from x0, made by beginStep()
+    std::vector<typename F::AtX> atX;             ///< at the last evaluate()'s x
+    std::vector<typename F::HessianData> hessian; ///< at the last assembleHessian()'s x
+    /// Block slot of (corner a, corner b != a) of each element, at
+    /// (e * kCorners + a) * (kCorners - 1) + (b < a ? b : b - 1); found once.
+    std::vector<std::int32_t> slots;
+  };
+  template <class Tuple>
+  struct DataOf;
+  template <class... F>
+  struct DataOf<std::tuple<F...>>
+  {
+    using type = std::tuple<FamilyData<std::remove_cvref_t<F>>...>;
+  };
+  using Families = decltype(std::declval<const Model&>().families());
+  static constexpr std::size_t kFamilyCount = std::tuple_size_v<Families>;
+
+  /// body(family, data) for each family, in the model's order.
+  template <class Body>
+  void forEachFamily(Body&& body)
+  {
+    const Families families = Elements.families();
+    [&]<std::size_t... I>(std::index_sequence<I...>) {
+      (body(std::get<I>(families), std::get<I>(Data)), ...);
+    }(std::make_index_sequence<kFamilyCount>{});
+  }
+
+  void beginElements() override;
+  template <class F>
+  void findSlots(const F& family, FamilyData<F>& data, const BlockSparseMatrix& hessian) const;
+
+  const Topology& Topo;
+  Model Elements;
+  typename DataOf<Families>::type Data;
+  std::vector<double> ElementEnergy; ///< per element of each family in turn, summed in order
+};
+
+/// The spring network's potential (Implicit Euler and Projective Dynamics use it).
+using SpringNetworkPotential = ModelPotential<SpringNetwork>;
+
+template <ElementModel Model>
+void ModelPotential<Model>::beginElements()
+{
+  forEachFamily([&](const auto& family, auto& data) {
+    data.step.resize(family.size());
+    parallelFor(family.size(), kElementGrain,
+      [&](std::size_t e) { data.step[e] = family.stepData(e, X0); });
+  });
+}
+
+template <ElementModel Model>
+double ModelPotential<Model>::evaluate(const std::vector<Vec3>& x, std::vector<Vec3>& gradient)
+{
+  const StepStart start{ X0, H };
+  std::size_t elementCount = 0;
+  forEachFamily([&](const auto& family, auto&) { elementCount += family.size(); });
+  ElementEnergy.resize(elementCount);
+  std::size_t offset = 0;
+  forEachFamily([&](const auto& family, auto& data) {
+    data.atX.resize(family.size());
+    double* energy = ElementEnergy.data() + offset;
+    parallelFor(family.size(), kElementGrain, [&](std::size_t e) {
+      energy[e] = family.evaluate(e, x, start, data.step[e], data.atX[e]);
+    });
+    offset += family.size();
+  });
+  const double h2 = H * H;
+  gradient.resize(x.size());
+  parallelFor(x.size(), kVertexGrain, [&](std::size_t i) {
+    if (!Active[i])
+    {
+      gradient[i].setZero();
+      return;
+    }
+    const double m = 1.0 / InverseMass[i];
+    Vec3 sum = m * ((x[i] - Target[i]) / h2 - Gravity);
+    forEachFamily([&](const auto& family, auto& data) {
+      family.forEachCorner(static_cast<std::int32_t>(i), [&](std::size_t e, int a) {
+        sum += family.cornerGradient(data.step[e], data.atX[e], a);
+      });
+    });
+    gradient[i] = sum;
+  });
+  const double inertia = inertialEnergy(x);
+  return inertia + parallelSum(ElementEnergy.size(), [&](std::size_t e) { return ElementEnergy[e]; });
+}
+
+template <ElementModel Model>
+template <class F>
+void ModelPotential<Model>::findSlots(
+  const F& family, FamilyData<F>& data, const BlockSparseMatrix& hessian) const
+{
+  // Each element corner's off-diagonal blocks, found once: the assembly then writes without
+  // looking up edges.
+  constexpr int n = F::kCorners;
+  data.slots.resize(family.size() * static_cast<std::size_t>(n * (n - 1)));
+  parallelFor(family.size(), kElementGrain, [&](std::size_t e) {
+    const std::array<std::int32_t, n> corners = family.corners(e);
+    std::size_t k = e * static_cast<std::size_t>(n * (n - 1));
+    for (int a = 0; a < n; ++a)
+    {
+      for (int b = 0; b < n; ++b)
+      {
+        if (b != a)
+        {
+          data.slots[k++] =
+            hessian.edgeSlot(static_cast<std::size_t>(family.edgeBetween(e, a, b)),
+              corners[static_cast<std::size_t>(a)], Topo);
+        }
+      }
+    }
+  });
+}
+
+template <ElementModel Model>
+void ModelPotential<Model>::assembleHessian(
+  const std::vector<Vec3>& x, BlockSparseMatrix& hessian)
+{
+  const StepStart start{ X0, H };
+  forEachFamily([&](const auto& family, auto& data) {
+    using F = std::remove_cvref_t<decltype(family)>;
+    data.hessian.resize(family.size());
+    parallelFor(family.size(), kElementGrain, [&](std::size_t e) {
+      data.hessian[e] = family.hessianData(e, x, start, data.step[e], data.atX[e]);
+    });
+    if (data.slots.size() != family.size() * static_cast<std::size_t>(F::kCorners * (F::kCorners - 1)))
+    {
+      findSlots(family, data, hessian);
+    }
+  });
+  const double h2 = H * H;
+  parallelFor(Topo.vertexCount, kVertexGrain, [&](std::size_t i) {
+    Mat3& diagonal = hessian.block(hessian.diagonalSlot(i));
+    const std::int32_t rowEnd = hessian.rowStart(i + 1);
+    if (!Active[i])
+    {
+      diagonal.setIdentity();
+      for (std::int32_t slot = hessian.diagonalSlot(i) + 1; slot < rowEnd; ++slot)
+      {
+        hessian.block(slot).setZero();
+      }
+      return;
+    }
+    diagonal = Mat3::Identity() / (h2 * InverseMass[i]);
+    // The off-diagonal blocks start at -0, the exact identity of IEEE addition (x + -0 = x for
+    // every x, +0 included), so a block written by one element holds that element's value to
+    // the last bit, sign of zero included.
+    for (std::int32_t slot = hessian.diagonalSlot(i) + 1; slot < rowEnd; ++slot)
+    {
+      hessian.block(slot).setConstant(-0.0);
+    }
+    forEachFamily([&](const auto& family, auto& data) {
+      using F = std::remove_cvref_t<decltype(family)>;
+      constexpr int n = F::kCorners;
+      family.forEachCorner(static_cast<std::int32_t>(i), [&](std::size_t e, int a) {
+        const auto& step = data.step[e];
+        const auto& at = data.atX[e];
+        const auto& local = data.hessian[e];
+        diagonal += family.hessianBlock(step, at, local, a, a);
+        const std::int32_t* slots =
+          data.slots.data() +
+          (e * static_cast<std::size_t>(n) + static_cast<std::size_t>(a)) * static_cast<std::size_t>(n - 1);
+        for (int b = 0, k = 0; b < n; ++b)
+        {
+          if (b != a)
+          {
+            hessian.block(slots[k++]) += family.hessianBlock(step, at, local, a, b);
+          }
+        }
+      });
+    });
+  });
+}
 
 } // namespace softbody
