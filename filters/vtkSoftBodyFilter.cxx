@@ -2,6 +2,7 @@
 
 #include "vtkSoftBodyDistribution.h"
 #include "vtkSoftBodyFrameCache.h"
+#include "vtkSoftBodyFrameRunner.h"
 #include "vtkSoftBodyObstacleTimeline.h"
 #include "vtkSoftBodyOutputAssembly.h"
 #include "vtkSoftBodyOutputPort.h"
@@ -13,7 +14,6 @@
 #include "vtkDemandDrivenPipeline.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
-#include "vtkLogger.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPolyData.h"
@@ -23,51 +23,16 @@
 #include "softbody/common/errors.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <sstream>
-#include <stdexcept>
 #include <vector>
 
 vtkStandardNewMacro(vtkSoftBodyFilter);
 
 //------------------------------------------------------------------------------
-// Run-time state kept between requests: the simulation, its frame cache and what they were
-// built from.
-class vtkSoftBodyFilter::vtkInternals
+// Run-time state kept between requests (vtkSoftBodyFrameRunner: the simulation, its frame
+// cache and what they were built from).
+class vtkSoftBodyFilter::vtkInternals : public vtkSoftBodyFrameRunner
 {
-public:
-  /// The simulation and the device it runs on.
-  vtkSoftBodyBuiltSimulation Built;
-  /// The optional render surface's binding to the body (kept while both are unchanged).
-  vtkSoftBodySkin Skin;
-  vtkSoftBodyFrameCache Cache;
-  /// Under MPI: this rank's whole bodies, gathered and dealt from the ranks' pieces.
-  vtkSoftBodyDistribution Distribution;
-  /// The Obstacles input the simulation was built with, and the moving ones over time.
-  vtkSoftBodyObstacleTimeline Obstacles;
-  /// Grid frame the simulation's state is exactly at; -1 when between frames or unknown.
-  int SimulationFrame = -1;
-
-  // The cache key: which input (object and modification time) and which core settings the
-  // simulation was built from (and the Obstacles' connections).
-  const vtkDataObject* Input = nullptr; // identity only, never dereferenced
-  vtkMTimeType InputMTime = 0;
-  vtkSoftBodyCoreSettings Settings;
-
-  std::string RunWarning;     ///< the run to EndTime will take long (steps, time, remedies)
-  std::string RunWarningSaid; ///< the last one printed, so it is said once
-  bool InversionSaid = false; ///< inverted tets were warned of (once per simulation)
-
-  void Discard()
-  {
-    this->Built = vtkSoftBodyBuiltSimulation();
-    this->InversionSaid = false;
-    this->Cache.Clear();
-    this->SimulationFrame = -1;
-    this->Input = nullptr;
-    this->Obstacles.Reset({});
-  }
 };
 
 namespace
@@ -276,18 +241,18 @@ int vtkSoftBodyFilter::RequestData(
 
   switch (this->Simulate(input, settings, obstacles, std::move(deliveredNow), t))
   {
-    case AdvanceResult::Failed:
+    case vtkSoftBodyRunResult::Failed:
       return 0;
-    case AdvanceResult::Aborted:
+    case vtkSoftBodyRunResult::Aborted:
       // CheckAbort has flagged the outputs; the executive empties them.
       return 1;
-    case AdvanceResult::NeedsObstacles:
+    case vtkSoftBodyRunResult::NeedsObstacles:
       // The frames so far are cached; the executive runs the pipeline again with the moving
       // obstacles requested at the time they are needed (RequestUpdateExtent) and this request
       // resumes where it stopped. Outputs are filled by the pass that reaches `t`.
       request->Set(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING(), 1);
       return 1;
-    case AdvanceResult::Done:
+    case vtkSoftBodyRunResult::Done:
       break;
   }
 
@@ -347,57 +312,18 @@ vtkUnstructuredGrid* vtkSoftBodyFilter::LocalInput(vtkUnstructuredGrid* input,
 }
 
 //------------------------------------------------------------------------------
-vtkSoftBodyFilter::AdvanceResult vtkSoftBodyFilter::Simulate(vtkUnstructuredGrid* input,
+vtkSoftBodyRunResult vtkSoftBodyFilter::Simulate(vtkUnstructuredGrid* input,
   const vtkSoftBodyCoreSettings& settings,
   const std::vector<vtkSoftBodyObstacleConnection>& obstacles,
   std::vector<softbody::ObstacleSurface> deliveredNow, double t)
 {
-  // Core reports unusable input and divergence by exceptions; they must not cross into the
-  // pipeline, and a simulation that threw is not trusted again. A refusal while building a
-  // new simulation (core validates the settings then) leaves the current one and its cache
-  // untouched (PrepareSimulation builds before it replaces): they are kept.
-  vtkInternals& internals = *this->Internals;
-  bool prepared = false;
-  try
-  {
-    if (!this->PrepareSimulation(input, settings, obstacles))
-    {
-      return AdvanceResult::Failed;
-    }
-    prepared = true;
-    internals.Obstacles.Record(std::move(deliveredNow));
-    // Said before a long run starts (and again only if EndTime or the simulation changes it).
-    internals.RunWarning = internals.Built.Simulation->longRunWarning(this->P.EndTime);
-    if (!internals.RunWarning.empty() && internals.RunWarning != internals.RunWarningSaid)
-    {
-      vtkWarningMacro(<< internals.RunWarning);
-      internals.RunWarningSaid = internals.RunWarning;
-    }
-    return this->AdvanceTo(t);
-  }
-  catch (const softbody::InvalidInputError& e)
-  {
-    vtkErrorMacro(<< e.what());
-    if (prepared)
-    {
-      internals.Discard();
-    }
-  }
-  catch (const softbody::SimulationDivergedError& e)
-  {
-    // Core's message already names the time and what to change.
-    vtkErrorMacro(<< e.what());
-    internals.Discard();
-  }
-  catch (const std::exception& e)
-  {
-    vtkErrorMacro(<< "The simulation failed: " << e.what());
-    if (prepared)
-    {
-      internals.Discard();
-    }
-  }
-  return AdvanceResult::Failed;
+  vtkSoftBodyFrameRunner::Hooks hooks;
+  hooks.Warn = [this](const std::string& message) { vtkWarningMacro(<< message); };
+  hooks.Error = [this](const std::string& message) { vtkErrorMacro(<< message); };
+  hooks.Progress = [this](double fraction) { this->UpdateProgress(fraction); };
+  hooks.Abort = [this] { return this->CheckAbort(); };
+  return this->Internals->Simulate(input, settings, obstacles, std::move(deliveredNow), t,
+    this->P, hooks, this->SimulatedStepsTotal);
 }
 
 //------------------------------------------------------------------------------
@@ -433,169 +359,6 @@ bool vtkSoftBodyFilter::AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData*
   }
   vtkSoftBodyOutputAssembly::FillFloor(this->P, input, outputs.Floor);
   return true;
-}
-
-//------------------------------------------------------------------------------
-bool vtkSoftBodyFilter::PrepareSimulation(vtkUnstructuredGrid* input,
-  const vtkSoftBodyCoreSettings& settings,
-  const std::vector<vtkSoftBodyObstacleConnection>& obstacles)
-{
-  vtkInternals& internals = *this->Internals;
-  internals.Cache.SetMemoryLimit(static_cast<std::size_t>(this->P.CacheMemoryLimit) << 20);
-
-  // The key is what the simulation is built from; EndTime and CacheMemoryLimit are not part
-  // of it, nor is any property the method ignores, so changing those keeps the cache.
-  if (internals.Built.Simulation && internals.Input == input &&
-    internals.InputMTime == input->GetMTime() && internals.Settings == settings &&
-    internals.Obstacles.GetConnections() == obstacles)
-  {
-    return true;
-  }
-
-  // Build the new simulation aside and discard the current one only once that succeeded:
-  // core validates the settings (and the input) while it builds, so a value it refuses
-  // throws here, and the cached frames must still be there when the value is put back.
-  vtkSoftBodyBuiltSimulation built;
-  std::string error;
-  if (!vtkSoftBodySimulationFactory::Build(input, settings, !obstacles.empty(),
-        [this](const std::string& warning) { vtkWarningMacro(<< warning); }, built, error))
-  {
-    vtkErrorMacro(<< error);
-    return false;
-  }
-  // Static obstacles are set once (they are not part of the state the cache restores);
-  // moving ones before every frame (AdvanceTo). Throws InvalidInputError for a method that
-  // cannot collide with obstacles or a bad surface: the current simulation stays.
-  vtkSoftBodyObstacleTimeline::SetStaticObstacles(obstacles, *built.Simulation);
-  internals.Discard();
-  internals.Built = std::move(built);
-  internals.Obstacles.Reset(obstacles);
-  internals.Cache.Insert(0, internals.Built.Simulation->state());
-  internals.SimulationFrame = 0;
-  internals.Input = input;
-  internals.InputMTime = input->GetMTime();
-  internals.Settings = settings;
-
-  // Said once per simulation, not on every frame; the Warnings field data repeats them.
-  const std::vector<std::string>& warnings = internals.Built.Simulation->warnings();
-  if (!warnings.empty())
-  {
-    std::ostringstream msg;
-    for (const std::string& warning : warnings)
-    {
-      msg << "\n  " << warning;
-    }
-    vtkWarningMacro(<< "Soft body set up with warnings:" << msg.str());
-  }
-  return true;
-}
-
-//------------------------------------------------------------------------------
-vtkSoftBodyFilter::AdvanceResult vtkSoftBodyFilter::AdvanceTo(double t)
-{
-  vtkInternals& internals = *this->Internals;
-  softbody::Simulation& simulation = *internals.Built.Simulation;
-  const vtkSoftBodyFrameGrid grid{ this->P.FrameInterval, this->P.EndTime };
-  bool onGrid = true;
-  const int target = grid.FrameOf(t, onGrid);
-
-  // Resume from the latest cached frame at or before the target, unless the simulation itself
-  // is already at a frame that is at least as close (it may be one the cache evicted).
-  int cached = -1;
-  const softbody::DynamicState* snapshot = internals.Cache.FindLatestAtOrBefore(target, cached);
-  const bool simulationIsCloser = internals.SimulationFrame >= 0 &&
-    internals.SimulationFrame <= target && internals.SimulationFrame >= cached;
-  if (!simulationIsCloser)
-  {
-    if (!snapshot)
-    {
-      // Frame 0 is never evicted, so this cannot happen; fail loudly rather than guess.
-      throw std::logic_error("the frame cache lost frame 0");
-    }
-    simulation.restoreState(*snapshot);
-    internals.SimulationFrame = cached;
-  }
-
-  // Progress runs over the frames still to simulate (plus the final partial interval).
-  const int first = internals.SimulationFrame;
-  const int framesToRun = target - first + (onGrid ? 0 : 1);
-  if (framesToRun <= 0)
-  {
-    return AdvanceResult::Done;
-  }
-  double lastReported = -1.0;
-  int framesDone = 0;
-  bool aborted = false;
-  // Called by core during advance(); reports at most every 0.5% and checks abort there, since
-  // CheckAbort walks the pipeline and core may call this every step.
-  const softbody::ProgressCallback progress = [&](double fraction) {
-    const double total = (framesDone + fraction) / framesToRun;
-    if (total - lastReported < 0.005)
-    {
-      return true;
-    }
-    lastReported = total;
-    this->UpdateProgress(total);
-    aborted = this->CheckAbort();
-    return !aborted;
-  };
-
-  auto runTo = [&](double endTime) {
-    const unsigned long long before = simulation.stepCount();
-    const softbody::AdvanceStatus status = simulation.advance(endTime, progress);
-    this->SimulatedStepsTotal += simulation.stepCount() - before;
-    return status == softbody::AdvanceStatus::Completed && !aborted;
-  };
-
-  // A run announced as long also says, in the log (visible in pvpython, where no progress bar
-  // is), how far it got and how long the rest will take: at most one line every 10 s.
-  const auto started = std::chrono::steady_clock::now();
-  auto lastLog = started;
-  auto logLongRunProgress = [&](int frame) {
-    const auto now = std::chrono::steady_clock::now();
-    if (internals.RunWarning.empty() || now - lastLog < std::chrono::seconds(10))
-    {
-      return;
-    }
-    lastLog = now;
-    const double elapsed = std::chrono::duration<double>(now - started).count();
-    const double left = elapsed / framesDone * (framesToRun - framesDone);
-    vtkLogF(INFO, "Soft Body: frame %d of %d simulated (t = %g s) in %.0f s; about %.0f s to go.",
-      frame, target, frame * this->P.FrameInterval, elapsed, left);
-  };
-  for (int k = first + 1; k <= target; ++k)
-  {
-    if (!internals.Obstacles.SetForInterval(
-          simulation, (k - 1) * this->P.FrameInterval, k * this->P.FrameInterval))
-    {
-      return AdvanceResult::NeedsObstacles; // still exactly at frame k - 1
-    }
-    if (this->CheckAbort() || !runTo(k * this->P.FrameInterval))
-    {
-      internals.SimulationFrame = -1; // stopped somewhere inside frame k
-      return AdvanceResult::Aborted;
-    }
-    internals.SimulationFrame = k;
-    internals.Cache.Insert(k, simulation.state());
-    ++framesDone;
-    logLongRunProgress(k);
-  }
-  if (!onGrid)
-  {
-    // Off-grid times (only EndTime, or a time a script asks for) are not cached: the next
-    // request resumes from the grid frame before them.
-    if (!internals.Obstacles.SetForInterval(simulation, target * this->P.FrameInterval, t))
-    {
-      return AdvanceResult::NeedsObstacles;
-    }
-    internals.SimulationFrame = -1;
-    if (this->CheckAbort() || !runTo(t))
-    {
-      return AdvanceResult::Aborted;
-    }
-  }
-  this->UpdateProgress(1.0);
-  return AdvanceResult::Done;
 }
 
 //------------------------------------------------------------------------------

@@ -53,6 +53,7 @@
 class vtkPolyData;
 struct vtkSoftBodyCoreSettings;
 struct vtkSoftBodyObstacleConnection;
+enum class vtkSoftBodyRunResult : int;
 class vtkUnstructuredGrid;
 namespace softbody
 {
@@ -346,13 +347,6 @@ private:
   void operator=(const vtkSoftBodyFilter&) = delete;
 
   class vtkInternals;
-  enum class AdvanceResult
-  {
-    Done,
-    Aborted,
-    NeedsObstacles, ///< a moving obstacle is needed at a time not fetched yet
-    Failed          ///< reported with vtkErrorMacro
-  };
 
   /// The requested time, clamped to [0, EndTime] (0 when none or NaN).
   double RequestedTime(vtkInformation* requestInfo) const;
@@ -362,25 +356,15 @@ private:
   /// streamed piece).
   vtkUnstructuredGrid* LocalInput(vtkUnstructuredGrid* input,
     const vtkSoftBodyCoreSettings& settings, bool surfaceConnected, vtkInformation* requestInfo);
-  /// Prepares the simulation and brings it to time `t`; core's exceptions are reported here
-  /// (Failed) and discard a simulation that threw.
-  AdvanceResult Simulate(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
+  /// Brings the simulation to time `t` (vtkSoftBodyFrameRunner::Simulate, with this filter's
+  /// warnings, errors, progress and abort).
+  vtkSoftBodyRunResult Simulate(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
     const std::vector<vtkSoftBodyObstacleConnection>& obstacles,
     std::vector<softbody::ObstacleSurface> deliveredNow, double t);
   /// Fills every output port from the simulation at its current time; false (reported) when
   /// the Surface input cannot be bound to the body.
   bool AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData* surface,
     const vtkSoftBodyOutputAssembly::Outputs& outputs);
-  /// Builds the simulation (and empties the cache) unless the input and the core settings it
-  /// was built from are unchanged. Builds before it replaces: when the new settings or input
-  /// are refused (false, or core's InvalidInputError), the current simulation and its cached
-  /// frames stay, so that correcting the value finds them again.
-  bool PrepareSimulation(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
-    const std::vector<vtkSoftBodyObstacleConnection>& obstacles);
-  /// Brings the simulation to time `t` through the cache, or as far as the moving obstacles
-  /// fetched so far allow (NeedsObstacles: the next pass fetches the missing time).
-  AdvanceResult AdvanceTo(double t);
-
   std::unique_ptr<vtkInternals> Internals;
   unsigned long long SimulatedStepsTotal = 0;
 };
