@@ -1,4 +1,5 @@
 #include "softbody/massspring/implicit_euler.h"
+#include "softbody/massspring/model_potential_factory.h"
 
 #include "softbody/common/parallel.h"
 #include "softbody/common/stepping.h"
@@ -16,8 +17,8 @@ constexpr double kMaxForcing = 0.1; // CG's relative accuracy in the first Newto
 
 ImplicitEulerStepper::ImplicitEulerStepper(const Topology& topology,
   const ElementConstants& constants, const PointMasses& masses, const SceneSettings& scene)
-  : Potential(topology, SpringNetwork(topology, constants), masses, scene.gravity)
-  , Solver(Potential, scene, ImplicitStepSolver::LineSearch::Armijo)
+  : Potential(makeIncrementalPotential(topology, constants, masses, scene.gravity))
+  , Solver(*Potential, scene, ImplicitStepSolver::LineSearch::Armijo)
   , Hessian(topology)
 {
 }
@@ -29,7 +30,7 @@ void ImplicitEulerStepper::step(double h, DynamicState& state, StepPlan& plan)
     const double residual = at.relativeResidual, goal = at.relativeGoal;
     {
       ScopedStageTimer timer(at.plan, Stage::Forces);
-      Potential.assembleHessian(at.x, Hessian);
+      Potential->assembleHessian(at.x, Hessian);
     }
     ScopedStageTimer timer(at.plan, Stage::LinearSolve);
     // Solve only as well as this iteration can use: loosely far from the solution, tightly

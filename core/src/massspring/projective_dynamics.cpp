@@ -1,4 +1,5 @@
 #include "softbody/massspring/projective_dynamics.h"
+#include "softbody/massspring/model_potential_factory.h"
 
 #include "softbody/common/errors.h"
 #include "softbody/common/parallel.h"
@@ -18,8 +19,8 @@ ProjectiveDynamicsStepper::ProjectiveDynamicsStepper(const Topology& topology,
   : Topo(topology)
   , Constants(constants)
   , InverseMass(masses.inverseMass)
-  , Potential(topology, SpringNetwork(topology, constants), masses, scene.gravity)
-  , Solver(Potential, scene, ImplicitStepSolver::LineSearch::Armijo)
+  , Potential(makeIncrementalPotential(topology, constants, masses, scene.gravity))
+  , Solver(*Potential, scene, ImplicitStepSolver::LineSearch::Armijo)
   , History(scene.implicit.projectiveHistory)
 {
   FreeIndex.assign(topology.vertexCount, -1);

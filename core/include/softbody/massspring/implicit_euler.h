@@ -29,7 +29,7 @@ public:
   static constexpr int kMaxLinearIterations = 2000;
 
 private:
-  SpringNetworkPotential Potential;
+  std::unique_ptr<IncrementalPotential> Potential; ///< the body's material model
   ImplicitStepSolver Solver;
   BlockSparseMatrix Hessian;
   PcgScratch LinearWork;

@@ -62,7 +62,7 @@ private:
   const Topology& Topo;
   const ElementConstants& Constants;
   const std::vector<double>& InverseMass;
-  SpringNetworkPotential Potential;
+  std::unique_ptr<IncrementalPotential> Potential; ///< the body's material model
   ImplicitStepSolver Solver;
   std::vector<double> TetWeight;     ///< |g0_t|^2: the volume term's Laplacian weight per K
   std::vector<std::int32_t> FreeIndex; ///< vertex -> row of A, -1 for fixed points
