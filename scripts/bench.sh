@@ -11,6 +11,9 @@
 #                                       spot jelly frequency stability stress
 #   scripts/bench.sh --no-plots ...     CSVs and tables only
 #
+# A complete run (no scene named, not --quick, default output folder) then writes its tables
+# into docs/accuracy.md (scripts/update_docs_tables.py) and copies its plots to docs/bench/.
+#
 # SOFTBODY_BENCH_OUT overrides output/bench; SOFTBODY_DATA_DIR the public meshes (../shared/data).
 set -euo pipefail
 plots=1
@@ -53,6 +56,19 @@ if [[ ${plots} -eq 1 ]]; then
   else
     softbody_log "matplotlib is missing: no plots (sudo apt-get install python3-matplotlib); the CSVs are in ${out}"
   fi
+fi
+# A complete run (every scene, not --quick) writes its tables into docs/accuracy.md and its
+# four plots the page shows into docs/bench/: the documentation's numbers are this run's.
+scenes_given=0
+for arg in ${args[@]+"${args[@]}"}; do
+  [[ "${arg}" != --* ]] && scenes_given=1
+done
+if [[ ${status} -eq 0 && ${quick} -eq 0 && ${scenes_given} -eq 0 && -z "${SOFTBODY_BENCH_OUT:-}" ]]; then
+  "${python:-python3}" "${SOFTBODY_ROOT}/scripts/update_docs_tables.py" "${out}" \
+    "${SOFTBODY_ROOT}/docs/accuracy.md" || status=$?
+  for plot in bar spot jelly incline_stick; do
+    [[ -f "${out}/${plot}.png" ]] && cp "${out}/${plot}.png" "${SOFTBODY_ROOT}/docs/bench/${plot}.png"
+  done
 fi
 if [[ ${status} -ne 0 ]]; then
   softbody_log "FAILED: bench_accuracy exit status ${status} (its failed checks are listed above)"
