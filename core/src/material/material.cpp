@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <string>
 
 namespace softbody
 {
@@ -31,11 +32,56 @@ EnergyConstants physicalEnergyConstants(const PhysicalMaterial& material)
   return { 15.0 * mu, lambda - mu };
 }
 
+/// Above this nu linear tets lock: their volume constraint leaves too few motions.
+constexpr double kLockingPoissonRatio = 0.45;
+
+void validateContinuum(const MaterialSettings& material, std::vector<std::string>& warnings)
+{
+  if (material.mode != MaterialMode::Physical)
+  {
+    throw InvalidInputError(std::string("MaterialModel ") + materialModelName(material.model) +
+      " takes YoungsModulus and PoissonRatio: set MaterialMode to Physical (the Raw constants "
+      "are the spring network's).");
+  }
+  const PhysicalMaterial& m = material.physical;
+  check::positive("YoungsModulus", m.youngsModulus, "Pa");
+  check::positive("Density", m.density, "kg/m^3");
+  check::nonNegative("DampingTime", m.dampingTime, "s", "undamped");
+  check::inRange("PoissonRatio", m.poissonRatio, -1.0, 0.5, true, true);
+  if (m.poissonRatio > kLockingPoissonRatio)
+  {
+    std::ostringstream message;
+    message << "PoissonRatio " << m.poissonRatio << " is nearly incompressible: linear tets "
+            << "lock (the body responds stiffer than the material, most in bending). Refine "
+            << "the mesh where it bends, or use a PoissonRatio of at most "
+            << kLockingPoissonRatio << " if the material allows.";
+    warnings.push_back(message.str());
+  }
+}
+
 } // namespace
+
+const char* materialModelName(MaterialModel model)
+{
+  switch (model)
+  {
+    case MaterialModel::SpringNetwork:
+      return "Spring Network";
+    case MaterialModel::Corotated:
+      return "Corotated";
+    case MaterialModel::StableNeoHookean:
+      return "Stable Neo-Hookean";
+  }
+  return "unknown";
+}
 
 void validateMaterial(const MaterialSettings& material, std::vector<std::string>& warnings)
 {
-  if (material.mode == MaterialMode::Physical)
+  if (isContinuum(material.model))
+  {
+    validateContinuum(material, warnings);
+  }
+  else if (material.mode == MaterialMode::Physical)
   {
     const PhysicalMaterial& m = material.physical;
     check::positive("YoungsModulus", m.youngsModulus, "Pa");
@@ -98,9 +144,13 @@ ElementConstants computeElementConstants(const Topology& topology,
     }
   }
 
+  // A continuum model keeps only the network's geometry (rest lengths and volumes: the stretch
+  // check, strain limit and volume ratios use them) and its damping time; its stiffness lives
+  // in tet_elasticity.h's constants, so no spring here can stiffen it.
   const bool physical = material.mode == MaterialMode::Physical;
-  const EnergyConstants perVolume =
-    physical ? physicalEnergyConstants(material.physical) : EnergyConstants{};
+  const EnergyConstants perVolume = physical && !isContinuum(material.model)
+    ? physicalEnergyConstants(material.physical)
+    : EnergyConstants{};
   const double beta = material.physical.dampingTime;
 
   for (std::size_t e = 0; e < edgeCount; ++e)

@@ -32,6 +32,19 @@ enum class MaterialMode
   Raw       ///< the thesis's constants k_D, k_V, damping and total mass, taken as they are
 };
 
+/// The constitutive model of a tet body. The spring network is the thesis's model (above); the
+/// two continuum models are finite elements on linear tets (tet_elasticity.h), whose E and nu
+/// mean what they mean in a paper: any nu in (-1, 0.5), nothing clamped.
+enum class MaterialModel
+{
+  SpringNetwork,   ///< springs and volume terms (Teschner et al. 2004)
+  Corotated,       ///< fixed corotated linear elasticity (Stomakhin et al. 2012)
+  StableNeoHookean ///< Stable Neo-Hookean (Smith, de Goes and Kim 2018)
+};
+
+const char* materialModelName(MaterialModel model);
+inline bool isContinuum(MaterialModel model) { return model != MaterialModel::SpringNetwork; }
+
 enum class MassDistribution
 {
   AverageIncidentVolume, ///< m_i proportional to the mean volume of the tets around i (thesis)
@@ -41,7 +54,9 @@ enum class MassDistribution
 struct PhysicalMaterial
 {
   double youngsModulus = 1.0e5; ///< E [Pa]; soft rubber
-  double poissonRatio = 0.3;    ///< nu in [0.25, 0.5); below 0.25 is clamped to 0.25
+  /// nu: spring network [0, 0.5), below 0.25 raised to 0.25 with a warning (the smallest a
+  /// network represents); continuum models (-1, 0.5), taken as given.
+  double poissonRatio = 0.3;
   double density = 1100.0;      ///< rho [kg/m^3]
   double dampingTime = 2.0e-3;  ///< beta [s]: stiffness-proportional damping
   bool operator==(const PhysicalMaterial&) const = default;
@@ -59,7 +74,8 @@ struct RawConstants
 
 struct MaterialSettings
 {
-  MaterialMode mode = MaterialMode::Physical;
+  MaterialModel model = MaterialModel::SpringNetwork;
+  MaterialMode mode = MaterialMode::Physical; ///< continuum models need Physical
   PhysicalMaterial physical;
   RawConstants raw;
   MassDistribution massDistribution = MassDistribution::AverageIncidentVolume;

@@ -18,6 +18,7 @@
 
 #include "softbody/material/element_model.h"
 #include "softbody/material/material.h"
+#include "softbody/material/tet_corners.h"
 #include "softbody/mesh/topology.h"
 
 #include <algorithm>
@@ -160,30 +161,19 @@ public:
 
   std::size_t size() const { return Constants->hasVolumeTerm ? Topo->tets.size() : 0; }
   std::array<std::int32_t, 4> corners(std::size_t t) const { return Topo->tets[t]; }
-  /// The mesh edge between corners a and b (a != b), from Topology::tetEdges.
+  /// The mesh edge between corners a and b (a != b).
   std::int32_t edgeBetween(std::size_t t, int a, int b) const
   {
-    // Index into a tetEdges row of the edge between corners a and b, in the order of
-    // topology.cpp's kTetEdgeCorners {01, 02, 03, 12, 13, 23}.
-    constexpr int kLocalEdge[4][4] = { { -1, 0, 1, 2 }, { 0, -1, 3, 4 }, { 1, 3, -1, 5 },
-      { 2, 4, 5, -1 } };
-    return Topo->tetEdges.items[6 * t + static_cast<std::size_t>(kLocalEdge[a][b])];
+    return tetEdgeBetween(*Topo, t, a, b);
   }
 
   /// visit(tet, corner) for each tet corner at `vertex`, in Topology::vertexTetCorners' order.
   template <class Visit>
   void forEachCorner(std::int32_t vertex, Visit&& visit) const
   {
-    if (!Constants->hasVolumeTerm)
+    if (Constants->hasVolumeTerm)
     {
-      return;
-    }
-    const Csr& corners = Topo->vertexTetCorners;
-    for (std::int32_t k = corners.offsets[static_cast<std::size_t>(vertex)];
-         k < corners.offsets[static_cast<std::size_t>(vertex) + 1]; ++k)
-    {
-      const std::int32_t item = corners.items[static_cast<std::size_t>(k)];
-      visit(static_cast<std::size_t>(item / 4), static_cast<int>(item % 4));
+      forEachTetCorner(*Topo, vertex, visit);
     }
   }
 

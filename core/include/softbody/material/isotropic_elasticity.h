@@ -1,0 +1,273 @@
+// Isotropic hyperelastic energy densities Psi(F) of the deformation gradient F, written in F's
+// singular values (the form of Smith, de Goes and Kim 2019, "Analytic Eigensystems for
+// Isotropic Distortion Energies", and of Kim and Eberle 2020, "Dynamic Deformables"):
+//
+//   F = U diag(s) V^T (rotation-variant SVD: U, V rotations, s3 < 0 for an inverted element)
+//   P = dPsi/dF = U diag(dPsi/ds) V^T
+//   dP/dF has nine eigenpairs, every one in closed form:
+//     three scaling modes  U diag(a) V^T, (a, value) the eigenpairs of d2Psi/ds2 (3x3)
+//     three twist modes    U (e_i e_j^T - e_j e_i^T) V^T / sqrt 2,  (psi_i + psi_j) / (s_i + s_j)
+//     three flip modes     U (e_i e_j^T + e_j e_i^T) V^T / sqrt 2,  (psi_i - psi_j) / (s_i - s_j)
+// so the exact PSD projection of dP/dF clamps the negative values of those nine and sums the
+// rest (no 9x9 eigensolver). Each law writes the twist and flip values without the division,
+// so they stay exact at repeated singular values (the rest shape has s = 1, 1, 1).
+//
+// The two laws, with mu and lambda the Lame parameters of the law:
+//   Corotated (fixed corotated, Stomakhin et al. 2012)
+//     Psi = mu |F - R|^2 + lambda / 2 (J - 1)^2,    J = det F = s1 s2 s3
+//   Stable Neo-Hookean (Smith, de Goes and Kim 2018)
+//     Psi = mu / 2 (I_C - 3) + lambda / 2 (J - alpha)^2 - mu / 2 log(I_C + 1) - Psi(I),
+//     I_C = |F|^2, alpha = 1 + 3 mu / (4 lambda): zero stress at rest. Its small-strain limit is
+//     linear elasticity with mu_lin = 3/4 mu and lambda_lin = lambda - 5/8 mu, so the law takes
+//     mu = 4/3 mu_lin, lambda = lambda_lin + 5/6 mu_lin (the paper's Sec. 3.4) and the E and nu a
+//     user types mean what they mean in a linear model. Both are finite for flat (J = 0) and
+//     inverted tets and push them back.
+#pragma once
+
+#include "softbody/common/geometry.h"
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <cmath>
+
+namespace softbody
+{
+
+using Mat3 = Eigen::Matrix3d;
+using Vec9 = Eigen::Matrix<double, 9, 1>;
+using Mat9 = Eigen::Matrix<double, 9, 9>;
+
+/// The Lame parameters of a linear isotropic solid [Pa].
+struct LameParameters
+{
+  double mu = 0.0;     ///< shear modulus
+  double lambda = 0.0; ///< Lame's first parameter
+};
+
+/// mu = E / (2 (1 + nu)), lambda = E nu / ((1 + nu)(1 - 2 nu)), for nu in (-1, 0.5).
+inline LameParameters lameFromYoung(double youngsModulus, double poissonRatio)
+{
+  const double e = youngsModulus, nu = poissonRatio;
+  return { e / (2.0 * (1.0 + nu)), e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)) };
+}
+
+/// The rotation-variant SVD of F: U and V proper rotations, s sorted by magnitude with only
+/// s(2) ever negative (an inverted F). R = U V^T is F's nearest rotation.
+struct RotationVariantSvd
+{
+  Mat3 u, v;
+  Vec3 s;
+};
+
+inline RotationVariantSvd rotationVariantSvd(const Mat3& f)
+{
+  const Eigen::JacobiSVD<Mat3> svd(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  RotationVariantSvd out{ svd.matrixU(), svd.matrixV(), svd.singularValues() };
+  if (out.u.determinant() < 0.0)
+  {
+    out.u.col(2) *= -1.0;
+    out.s(2) *= -1.0;
+  }
+  if (out.v.determinant() < 0.0)
+  {
+    out.v.col(2) *= -1.0;
+    out.s(2) *= -1.0;
+  }
+  return out;
+}
+
+/// Index of the singular value that is not i or j (pairs (0,1), (0,2), (1,2)).
+constexpr int thirdIndex(int i, int j) { return 3 - i - j; }
+
+/// Fixed corotated elasticity (see the header comment).
+struct CorotatedLaw
+{
+  static constexpr const char* kName = "Corotated";
+  /// The law's parameters for a linear solid's (the same: its small-strain limit is linear).
+  static LameParameters fromLinear(const LameParameters& linear) { return linear; }
+
+  static double energy(const Vec3& s, const LameParameters& p)
+  {
+    const double j = s(0) * s(1) * s(2);
+    return p.mu * (s - Vec3::Ones()).squaredNorm() + 0.5 * p.lambda * (j - 1.0) * (j - 1.0);
+  }
+  /// dPsi/ds_k.
+  static Vec3 gradient(const Vec3& s, const LameParameters& p)
+  {
+    const double j = s(0) * s(1) * s(2);
+    const Vec3 others(s(1) * s(2), s(0) * s(2), s(0) * s(1)); // dJ/ds_k
+    return 2.0 * p.mu * (s - Vec3::Ones()) + p.lambda * (j - 1.0) * others;
+  }
+  /// d2Psi/ds2.
+  static Mat3 hessian(const Vec3& s, const LameParameters& p)
+  {
+    const double j = s(0) * s(1) * s(2);
+    const Vec3 others(s(1) * s(2), s(0) * s(2), s(0) * s(1));
+    Mat3 h = 2.0 * p.mu * Mat3::Identity() + p.lambda * others * others.transpose();
+    h(0, 1) = h(1, 0) = h(0, 1) + p.lambda * (j - 1.0) * s(2);
+    h(0, 2) = h(2, 0) = h(0, 2) + p.lambda * (j - 1.0) * s(1);
+    h(1, 2) = h(2, 1) = h(1, 2) + p.lambda * (j - 1.0) * s(0);
+    return h;
+  }
+  static double twist(const Vec3& s, int i, int j, const LameParameters& p)
+  {
+    // mu |F - R|^2 contributes 2 mu (1 - 2 / (s_i + s_j)), which is very negative for a
+    // collapsing pair; the projection clamps it. The floor on the sum keeps it finite when both
+    // singular values vanish.
+    const double sum = std::max(s(i) + s(j), 1e-12);
+    const double jac = s(0) * s(1) * s(2);
+    return 2.0 * p.mu * (1.0 - 2.0 / sum) + p.lambda * (jac - 1.0) * s(thirdIndex(i, j));
+  }
+  static double flip(const Vec3& s, int i, int j, const LameParameters& p)
+  {
+    const double jac = s(0) * s(1) * s(2);
+    return 2.0 * p.mu - p.lambda * (jac - 1.0) * s(thirdIndex(i, j));
+  }
+};
+
+/// Stable Neo-Hookean elasticity (see the header comment); its parameters are the law's own,
+/// made from a linear solid's by fromLinear().
+struct StableNeoHookeanLaw
+{
+  static constexpr const char* kName = "Stable Neo-Hookean";
+  static LameParameters fromLinear(const LameParameters& linear)
+  {
+    return { 4.0 / 3.0 * linear.mu, linear.lambda + 5.0 / 6.0 * linear.mu };
+  }
+  static double alpha(const LameParameters& p) { return 1.0 + 0.75 * p.mu / p.lambda; }
+
+  static double energy(const Vec3& s, const LameParameters& p)
+  {
+    const double ic = s.squaredNorm();
+    const double j = s(0) * s(1) * s(2);
+    const double a = alpha(p);
+    const double rest = 0.5 * p.lambda * (1.0 - a) * (1.0 - a) - 0.5 * p.mu * std::log(4.0);
+    return 0.5 * p.mu * (ic - 3.0) + 0.5 * p.lambda * (j - a) * (j - a) -
+      0.5 * p.mu * std::log(ic + 1.0) - rest;
+  }
+  static Vec3 gradient(const Vec3& s, const LameParameters& p)
+  {
+    const double ic = s.squaredNorm();
+    const double j = s(0) * s(1) * s(2);
+    const Vec3 others(s(1) * s(2), s(0) * s(2), s(0) * s(1));
+    return p.mu * (1.0 - 1.0 / (ic + 1.0)) * s + p.lambda * (j - alpha(p)) * others;
+  }
+  static Mat3 hessian(const Vec3& s, const LameParameters& p)
+  {
+    const double ic = s.squaredNorm();
+    const double j = s(0) * s(1) * s(2);
+    const double c = j - alpha(p);
+    const Vec3 others(s(1) * s(2), s(0) * s(2), s(0) * s(1));
+    Mat3 h = p.mu * (1.0 - 1.0 / (ic + 1.0)) * Mat3::Identity() +
+      (2.0 * p.mu / ((ic + 1.0) * (ic + 1.0))) * s * s.transpose() +
+      p.lambda * others * others.transpose();
+    h(0, 1) = h(1, 0) = h(0, 1) + p.lambda * c * s(2);
+    h(0, 2) = h(2, 0) = h(0, 2) + p.lambda * c * s(1);
+    h(1, 2) = h(2, 1) = h(1, 2) + p.lambda * c * s(0);
+    return h;
+  }
+  static double twist(const Vec3& s, int i, int j, const LameParameters& p)
+  {
+    const double ic = s.squaredNorm();
+    const double jac = s(0) * s(1) * s(2);
+    return p.mu * (1.0 - 1.0 / (ic + 1.0)) + p.lambda * (jac - alpha(p)) * s(thirdIndex(i, j));
+  }
+  static double flip(const Vec3& s, int i, int j, const LameParameters& p)
+  {
+    const double ic = s.squaredNorm();
+    const double jac = s(0) * s(1) * s(2);
+    return p.mu * (1.0 - 1.0 / (ic + 1.0)) - p.lambda * (jac - alpha(p)) * s(thirdIndex(i, j));
+  }
+};
+
+template <class Law>
+concept IsotropicLaw = requires(const Vec3& s, const LameParameters& p, int i) {
+  { Law::energy(s, p) } -> std::same_as<double>;
+  { Law::gradient(s, p) } -> std::same_as<Vec3>;
+  { Law::hessian(s, p) } -> std::same_as<Mat3>;
+  { Law::twist(s, i, i, p) } -> std::same_as<double>;
+  { Law::flip(s, i, i, p) } -> std::same_as<double>;
+  { Law::fromLinear(p) } -> std::same_as<LameParameters>;
+};
+
+/// vec(A) with the row-major index 3 r + c: the layout every 9x9 tensor here uses.
+inline Vec9 flatten(const Mat3& a)
+{
+  Vec9 v;
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      v(3 * r + c) = a(r, c);
+    }
+  }
+  return v;
+}
+
+/// The first Piola-Kirchhoff stress P = U diag(dPsi/ds) V^T [Pa].
+template <IsotropicLaw Law>
+Mat3 firstPiolaStress(const RotationVariantSvd& svd, const LameParameters& p)
+{
+  return svd.u * Law::gradient(svd.s, p).asDiagonal() * svd.v.transpose();
+}
+
+/// dP/dF from its nine eigenpairs; with `project`, the negative eigenvalues are clamped to zero
+/// (the exact PSD projection). [Pa]
+template <IsotropicLaw Law>
+Mat9 stressDerivative(const RotationVariantSvd& svd, const LameParameters& p, bool project)
+{
+  const auto keep = [&](double value) { return project ? std::max(value, 0.0) : value; };
+  Mat9 dpdf = Mat9::Zero();
+  const auto addMode = [&](double value, const Mat3& inSingularFrame) {
+    if (value != 0.0)
+    {
+      const Vec9 q = flatten(svd.u * inSingularFrame * svd.v.transpose());
+      dpdf.noalias() += value * q * q.transpose();
+    }
+  };
+  // The iterative solver, not computeDirect: the closed-form 3x3 roots lose about half the
+  // digits at the double eigenvalue 2 mu of every body at rest.
+  const Eigen::SelfAdjointEigenSolver<Mat3> scaling(Law::hessian(svd.s, p));
+  for (int k = 0; k < 3; ++k)
+  {
+    addMode(keep(scaling.eigenvalues()(k)), Mat3(scaling.eigenvectors().col(k).asDiagonal()));
+  }
+  constexpr double kInvSqrt2 = 0.70710678118654752440;
+  constexpr int kPairs[3][2] = { { 0, 1 }, { 0, 2 }, { 1, 2 } };
+  for (const auto& pair : kPairs)
+  {
+    const int i = pair[0], j = pair[1];
+    Mat3 twist = Mat3::Zero(), flip = Mat3::Zero();
+    twist(i, j) = kInvSqrt2;
+    twist(j, i) = -kInvSqrt2;
+    flip(i, j) = flip(j, i) = kInvSqrt2;
+    addMode(keep(Law::twist(svd.s, i, j, p)), twist);
+    addMode(keep(Law::flip(svd.s, i, j, p)), flip);
+  }
+  return dpdf;
+}
+
+/// The linear elasticity tensor C : dF = 2 mu sym(R^T dF) + lambda tr(R^T dF) rotated by R,
+/// as the 9x9 Hessian of the viscous damping potential (tet_elasticity.h) [Pa].
+inline Mat9 rotatedLinearTensor(const Mat3& rotation, const LameParameters& p)
+{
+  Mat9 c;
+  Eigen::Matrix<double, 9, 9> sym; // columns: vec(sym(R^T E_m)) for unit matrices E_m
+  Vec9 trace;
+  for (int m = 0; m < 9; ++m)
+  {
+    Mat3 e = Mat3::Zero();
+    e(m / 3, m % 3) = 1.0;
+    const Mat3 local = rotation.transpose() * e;
+    sym.col(m) = flatten(0.5 * (local + local.transpose()));
+    trace(m) = local.trace();
+  }
+  c.noalias() = 2.0 * p.mu * sym.transpose() * sym;
+  c.noalias() += p.lambda * trace * trace.transpose();
+  return c;
+}
+
+} // namespace softbody
