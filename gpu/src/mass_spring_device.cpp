@@ -239,6 +239,7 @@ void MassSpringDevice::integrate(double h, double kick)
       break;
     case Integrator::ImplicitEuler:
     case Integrator::ProjectiveDynamics:
+    case Integrator::Static:
       // Refused in tryCreateGpuMassSpring (the filter then runs them on the CPU).
       throw std::logic_error("the GPU stepper has no implicit integrator");
   }

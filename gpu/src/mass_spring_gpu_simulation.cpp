@@ -192,6 +192,12 @@ std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(
       integratorName(scene.integrator) + " is implicit.";
     return nullptr;
   }
+  if (isContinuum(body.material.model))
+  {
+    whyNot = std::string("the GPU backend has only the Spring Network's forces, not MaterialModel ") +
+      materialModelName(body.material.model) + ".";
+    return nullptr;
+  }
   try
   {
     return std::make_unique<MassSpringGpuSimulation>(body, scene);

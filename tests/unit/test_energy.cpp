@@ -102,6 +102,7 @@ void stepMode(Integrator integrator, double h, double w2, ModeState& s, bool fir
       break;
     case Integrator::ImplicitEuler:
     case Integrator::ProjectiveDynamics:
+    case Integrator::Static:
       FAIL() << "explicit integrators only (test_implicit.cpp covers the implicit ones)";
   }
 }

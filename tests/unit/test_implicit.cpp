@@ -95,7 +95,7 @@ TEST(ImplicitIntegrators, LinearSpringStepEqualsTheClosedFormBackwardEulerUpdate
       int iterations = 0;
       if (integrator == Integrator::ImplicitEuler)
       {
-        ImplicitEulerStepper stepper(topology, constants, masses, scene);
+        ImplicitEulerStepper stepper(topology, BodyElements{ MaterialModel::SpringNetwork, &constants, nullptr }, masses, scene);
         stepper.step(h, state, plan);
         iterations = stepper.convergence().iterations;
       }

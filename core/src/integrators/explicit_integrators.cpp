@@ -79,6 +79,7 @@ void integrateStep(Integrator integrator, double h, const AccelerationEvaluator&
       break;
     case Integrator::ImplicitEuler:
     case Integrator::ProjectiveDynamics:
+    case Integrator::Static:
       throw std::logic_error("integrateStep: implicit integrators have their own steppers");
   }
   state.time += h;

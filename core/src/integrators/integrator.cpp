@@ -59,9 +59,15 @@ double midpointRadius(double h, double omega, double c)
     1.0 - h2 * w2, h - h2 * c, -h * w2 + h2 * c * w2, 1.0 - h * c + h2 * (c * c - w2));
 }
 
+double staticRadius(double, double, double)
+{
+  // Every step lands on the equilibrium: nothing of the state before it survives.
+  return 0.0;
+}
+
 using I = Integrator;
 // clang-format off
-constexpr std::array<IntegratorFacts, 6> kTable{ {
+constexpr std::array<IntegratorFacts, 7> kTable{ {
   // integrator            name                 order implicit symplectic evaluations
   //   staggered velocity, GPU, undamped reference, plan's element pass and linear solve, stability
   { I::Euler,              "Euler",               1, false, false, 1,
@@ -78,6 +84,9 @@ constexpr std::array<IntegratorFacts, 6> kTable{ {
   // Local step: the element pass (projections = gradient); global: prefactored solves.
   { I::ProjectiveDynamics, "Projective Dynamics", 1, true,  false, 1,
     false, false, I::ProjectiveDynamics, "local step",          "prefactored Cholesky", backwardEulerRadius },
+  // Newton on the elastic energy alone; order 0: the answer does not depend on the step.
+  { I::Static,             "Static",              0, true,  false, 1,
+    false, false, I::Static,             "gradient + Hessian",  "block-Jacobi PCG",     staticRadius },
 } };
 // clang-format on
 

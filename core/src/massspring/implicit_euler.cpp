@@ -1,5 +1,4 @@
 #include "softbody/massspring/implicit_euler.h"
-#include "softbody/massspring/model_potential_factory.h"
 
 #include "softbody/common/parallel.h"
 #include "softbody/common/stepping.h"
@@ -16,11 +15,16 @@ constexpr double kMaxForcing = 0.1; // CG's relative accuracy in the first Newto
 } // namespace
 
 ImplicitEulerStepper::ImplicitEulerStepper(const Topology& topology,
-  const ElementConstants& constants, const PointMasses& masses, const SceneSettings& scene)
-  : Potential(makeIncrementalPotential(topology, constants, masses, scene.gravity))
+  const BodyElements& elements, const PointMasses& masses, const SceneSettings& scene,
+  bool equilibrium)
+  : Potential(makeIncrementalPotential(topology, elements, masses, scene.gravity))
   , Solver(*Potential, scene, ImplicitStepSolver::LineSearch::Armijo)
   , Hessian(topology)
 {
+  if (equilibrium)
+  {
+    Potential->makeStatic();
+  }
 }
 
 void ImplicitEulerStepper::step(double h, DynamicState& state, StepPlan& plan)

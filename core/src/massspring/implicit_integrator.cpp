@@ -2,6 +2,7 @@
 
 #include "softbody/massspring/implicit_euler.h"
 #include "softbody/massspring/projective_dynamics.h"
+#include "softbody/massspring/static_solve.h"
 
 #include <stdexcept>
 #include <string>
@@ -10,16 +11,19 @@ namespace softbody
 {
 
 std::unique_ptr<ImplicitIntegrator> makeImplicitIntegrator(const SceneSettings& scene,
-  const Topology& topology, const ElementConstants& constants, const PointMasses& masses,
-  const std::vector<Vec3>& restPositions)
+  const Topology& topology, const BodyElements& elements, const PointMasses& masses,
+  const std::vector<Vec3>& restPositions, const std::vector<Vec3>& positions)
 {
   switch (scene.integrator)
   {
     case Integrator::ImplicitEuler:
-      return std::make_unique<ImplicitEulerStepper>(topology, constants, masses, scene);
+      return std::make_unique<ImplicitEulerStepper>(topology, elements, masses, scene);
     case Integrator::ProjectiveDynamics:
+      // prepareMassSpring refuses it for the continuum models.
       return std::make_unique<ProjectiveDynamicsStepper>(
-        topology, constants, masses, restPositions, scene);
+        topology, *elements.network, masses, restPositions, scene);
+    case Integrator::Static:
+      return std::make_unique<StaticStepper>(topology, elements, masses, scene, positions);
     default:
       throw std::logic_error(std::string("makeImplicitIntegrator: ") +
         integratorName(scene.integrator) + " is not implicit");

@@ -55,7 +55,8 @@ double IncrementalPotential::inertialEnergy(const std::vector<Vec3>& x) const
     const double m = 1.0 / InverseMass[i];
     // Gravity's work from x0 rather than from the origin: the same minimizer, and Phi stays
     // small enough that its rounding does not hide the last iterations' progress.
-    return 0.5 * m * (x[i] - Target[i]).squaredNorm() / h2 - m * Gravity.dot(x[i] - X0[i]);
+    const double work = m * Gravity.dot(x[i] - X0[i]);
+    return Static ? -work : 0.5 * m * (x[i] - Target[i]).squaredNorm() / h2 - work;
   });
 }
 

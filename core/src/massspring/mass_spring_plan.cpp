@@ -7,11 +7,8 @@ namespace softbody
 namespace
 {
 
-void addIntegration(StepPlan& plan, const SceneSettings& scene, bool hasVolumeTerm)
+void addIntegration(StepPlan& plan, const SceneSettings& scene, const std::string& elements)
 {
-  // The force pass walks the springs and, only when some tet has a volume stiffness or
-  // damping, the tets (ElementConstants::hasVolumeTerm).
-  const std::string elements = hasVolumeTerm ? "springs + volumes" : "springs";
   const IntegratorFacts& integrator = factsOf(scene.integrator);
   plan.add(Stage::Forces,
     integrator.forcesDetail ? elements + ", " + integrator.forcesDetail : elements);
@@ -36,11 +33,22 @@ const char* implicitFloorLabel(const CollisionSettings& contact)
 
 } // namespace
 
+std::string elementPassLabel(MaterialModel model, bool hasVolumeTerm)
+{
+  // The network's pass walks the springs and, only when some tet has a volume stiffness or
+  // damping, the tets (ElementConstants::hasVolumeTerm).
+  if (isContinuum(model))
+  {
+    return std::string("tets, ") + materialModelName(model);
+  }
+  return hasVolumeTerm ? "springs + volumes" : "springs";
+}
+
 StepPlan planMassSpring(const MassSpringSetup& setup)
 {
   const SceneSettings& scene = setup.scene;
   StepPlan plan;
-  addIntegration(plan, scene, setup.constants.hasVolumeTerm);
+  addIntegration(plan, scene, elementPassLabel(setup.model, setup.constants.hasVolumeTerm));
   if (scene.floorActive())
   {
     plan.add(Stage::Floor, isImplicit(scene.integrator) ? implicitFloorLabel(scene.collisions) : "");
@@ -49,10 +57,10 @@ StepPlan planMassSpring(const MassSpringSetup& setup)
   return plan;
 }
 
-StepPlan planMassSpring(const SceneSettings& scene, bool hasVolumeTerm, bool hasObstacles)
+StepPlan planMassSpring(const SceneSettings& scene, const std::string& elements, bool hasObstacles)
 {
   StepPlan plan;
-  addIntegration(plan, scene, hasVolumeTerm);
+  addIntegration(plan, scene, elements);
   const bool implicit = isImplicit(scene.integrator);
   // The implicit integrators keep the floor in their solve (a step may not cross it); what
   // else they touch is resolved after the step like the explicit integrators' contacts.

@@ -3,6 +3,7 @@
 
 #include "softbody/common/errors.h"
 #include "softbody/common/validation.h"
+#include "softbody/stability/element_frequency.h"
 #include "softbody/stability/stability.h"
 
 #include <cmath>
@@ -43,7 +44,9 @@ void chooseStep(MassSpringSetup& s)
 {
   const SceneSettings& scene = s.scene;
   const ElementConstants& c = s.constants;
-  s.omegaMax = highestFrequencyBound(s.topology, c, s.masses.inverseMass, s.mesh.points);
+  s.omegaMax = isContinuum(s.model)
+    ? continuumFrequencyBound(s.topology, s.tetConstants, s.masses.inverseMass, s.mesh.points)
+    : highestFrequencyBound(s.topology, c, s.masses.inverseMass, s.mesh.points);
   if (isImplicit(scene.integrator))
   {
     // Stable at any step: automatic means one step per advance() call (per frame in the
@@ -103,7 +106,20 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
   }
   s.mesh = prepareTetMesh(std::move(body.mesh), s.scene.invertedTets, s.warnings);
   s.topology = buildTopology(s.mesh.points.size(), s.mesh.tets);
+  s.model = body.material.model;
+  if (isContinuum(s.model) && s.scene.integrator == Integrator::ProjectiveDynamics)
+  {
+    throw InvalidInputError(std::string("Integrator Projective Dynamics runs the Spring Network "
+      "material model only, not MaterialModel ") + materialModelName(s.model) + ". Use Implicit "
+      "Euler (Newton on the same backward-Euler step), Static, or an explicit integrator.");
+  }
   s.constants = computeElementConstants(s.topology, s.mesh.points, body.material, s.warnings);
+  if (isContinuum(s.model))
+  {
+    std::vector<std::string> repeated; // the material's warnings are said once, above
+    s.tetConstants =
+      computeTetElasticConstants(s.topology, s.mesh.points, body.material, repeated);
+  }
 
   double restVolume = 0.0;
   for (double v : s.constants.restVolume)

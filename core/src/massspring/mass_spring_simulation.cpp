@@ -35,8 +35,16 @@ public:
     std::vector<Vec3>& accelerations) const override
   {
     ScopedStageTimer timer(Owner.Plan, Stage::Forces);
-    computeInternalForces(
-      Owner.Topo, Owner.Constants, positions, velocities, Owner.ForceWork, accelerations);
+    if (isContinuum(Owner.Model))
+    {
+      computeTetElasticForces(
+        Owner.Topo, Owner.TetConstants, positions, velocities, Owner.TetForceWork, accelerations);
+    }
+    else
+    {
+      computeInternalForces(
+        Owner.Topo, Owner.Constants, positions, velocities, Owner.ForceWork, accelerations);
+    }
     const std::vector<double>& w = Owner.Masses.inverseMass;
     const Vec3 gravity = Owner.Scene.gravity;
     parallelFor(accelerations.size(), 4096, [&](std::size_t i) {
@@ -52,13 +60,16 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
 {
   // Set-up shared with the GPU stepper (mass_spring_setup.h).
   MassSpringSetup setup = prepareMassSpring(std::move(body), scene);
-  Plan = planMassSpring(setup.scene, setup.constants.hasVolumeTerm, false);
+  Plan = planMassSpring(
+    setup.scene, elementPassLabel(setup.model, setup.constants.hasVolumeTerm), false);
   Cost = stepCostOf(setup); // before the set-up's parts move into this stepper
   Scene = setup.scene;
   State = restState(setup);
   Mesh = std::move(setup.mesh);
   Topo = std::move(setup.topology);
+  Model = setup.model;
   Constants = std::move(setup.constants);
+  TetConstants = std::move(setup.tetConstants);
   Masses = std::move(setup.masses);
   Step = setup.step;
   StableStep = setup.stableStep;
@@ -84,7 +95,9 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
   }
   if (isImplicit(Scene.integrator))
   {
-    Implicit = makeImplicitIntegrator(solveScene, Topo, Constants, Masses, Mesh.points);
+    Implicit = makeImplicitIntegrator(solveScene, Topo,
+      BodyElements{ Model, &Constants, isContinuum(Model) ? &TetConstants : nullptr }, Masses,
+      Mesh.points, State.positions);
   }
 }
 
@@ -108,14 +121,26 @@ void MassSpringSimulation::restoreState(const DynamicState& snapshot)
   State = snapshot;
 }
 
+double MassSpringSimulation::elasticEnergy() const
+{
+  return isContinuum(Model) ? tetElasticEnergy(Topo, TetConstants, State.positions)
+                            : softbody::elasticEnergy(Topo, Constants, State.positions);
+}
+
 double MassSpringSimulation::mechanicalEnergy() const
 {
-  double energy = elasticEnergy(Topo, Constants, State.positions);
+  // The elastic energy first, then each point's kinetic energy: the order the sum always had.
+  double energy = elasticEnergy();
   for (std::size_t i = 0; i < State.velocities.size(); ++i)
   {
     energy += 0.5 * Masses.mass[i] * State.velocities[i].squaredNorm();
   }
   return energy;
+}
+
+TetStressField MassSpringSimulation::stressField() const
+{
+  return isContinuum(Model) ? tetStressField(Topo, TetConstants, State.positions) : TetStressField{};
 }
 
 std::vector<double> MassSpringSimulation::tetVolumeRatios() const
@@ -205,7 +230,7 @@ void MassSpringSimulation::setObstacles(std::vector<ObstacleSurface> obstacles, 
     // The collision stages appear (or go) with the obstacles; set before the first advance,
     // as the filter does, no stage time is lost.
     HasObstacles = hasObstacles;
-    Plan = planMassSpring(Scene, Constants.hasVolumeTerm, HasObstacles);
+    Plan = planMassSpring(Scene, elementPassLabel(Model, Constants.hasVolumeTerm), HasObstacles);
   }
 }
 

@@ -19,7 +19,8 @@ ProjectiveDynamicsStepper::ProjectiveDynamicsStepper(const Topology& topology,
   : Topo(topology)
   , Constants(constants)
   , InverseMass(masses.inverseMass)
-  , Potential(makeIncrementalPotential(topology, constants, masses, scene.gravity))
+  , Potential(makeIncrementalPotential(
+      topology, BodyElements{ MaterialModel::SpringNetwork, &constants, nullptr }, masses, scene.gravity))
   , Solver(*Potential, scene, ImplicitStepSolver::LineSearch::Armijo)
   , History(scene.implicit.projectiveHistory)
 {

@@ -371,4 +371,14 @@ std::vector<double> ReorderedSimulation::tetVolumeRatios() const
   return toInputOrder(Inner->tetVolumeRatios(), Map.tetOrder);
 }
 
+TetStressField ReorderedSimulation::stressField() const
+{
+  TetStressField field = Inner->stressField();
+  field.greenStrain = toInputOrder(field.greenStrain, Map.tetOrder);
+  field.cauchyStress = toInputOrder(field.cauchyStress, Map.tetOrder);
+  field.vonMises = toInputOrder(field.vonMises, Map.tetOrder);
+  field.energyDensity = toInputOrder(field.energyDensity, Map.tetOrder);
+  return field;
+}
+
 } // namespace softbody

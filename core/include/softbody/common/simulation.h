@@ -6,6 +6,7 @@
 #include "softbody/common/geometry.h"
 #include "softbody/common/state.h"
 #include "softbody/common/step_plan.h"
+#include "softbody/common/tet_stress_field.h"
 
 #include <functional>
 #include <string>
@@ -50,6 +51,13 @@ public:
 
   /// Current over rest volume of each tet, in input cell order; empty for bodies without tets.
   virtual std::vector<double> tetVolumeRatios() const = 0;
+  /// Strain, stress and energy density per tet, in the order tetVolumeRatios() has; empty
+  /// where the body has no continuum model.
+  virtual TetStressField stressField() const { return {}; }
+  /// Elastic energy of the current state [J]; NaN where the stepper does not say.
+  virtual double elasticEnergy() const;
+  /// Kinetic energy sum m v^2 / 2 of the free points [J].
+  double kineticEnergy() const;
 
   /// Whether setObstacles() is supported (the GPU stepper does not: the filter falls back to
   /// the CPU with a warning).

@@ -17,7 +17,10 @@ enum class Integrator
   EulerCromer, ///< v += h a(t);        x += h v(t+h)               first order, symplectic
   // Implicit (implicit_euler.h, projective_dynamics.h): stable at any step, solved per step.
   ImplicitEuler,     ///< backward Euler by Newton's method with PCG   first order, dissipative
-  ProjectiveDynamics ///< backward Euler by local/global iterations (Liu et al. 2013)
+  ProjectiveDynamics, ///< backward Euler by local/global iterations (Liu et al. 2013)
+  /// The static equilibrium at each step's end time, without inertia (static_solve.h): Newton
+  /// on the elastic energy and the loads. Velocities are zero.
+  Static
 };
 
 struct IntegratorFacts

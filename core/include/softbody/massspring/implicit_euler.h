@@ -10,6 +10,7 @@
 #include "softbody/massspring/block_pcg.h"
 #include "softbody/massspring/implicit_integrator.h"
 #include "softbody/massspring/implicit_solve.h"
+#include "softbody/massspring/model_potential_factory.h"
 
 namespace softbody
 {
@@ -17,8 +18,10 @@ namespace softbody
 class ImplicitEulerStepper final : public ImplicitIntegrator
 {
 public:
-  ImplicitEulerStepper(const Topology& topology, const ElementConstants& constants,
-    const PointMasses& masses, const SceneSettings& scene);
+  /// With `equilibrium`, the potential drops inertia (IncrementalPotential::makeStatic): each
+  /// step then solves for the static equilibrium (the Static integrator, static_solve.h).
+  ImplicitEulerStepper(const Topology& topology, const BodyElements& elements,
+    const PointMasses& masses, const SceneSettings& scene, bool equilibrium = false);
 
   /// One backward-Euler step of h (positions and velocities; time and counters are the
   /// caller's). Times Stage::Forces (evaluations and assembly) and Stage::LinearSolve.

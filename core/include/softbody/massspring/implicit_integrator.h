@@ -9,6 +9,7 @@
 #include "softbody/common/step_plan.h"
 #include "softbody/massspring/implicit_convergence.h"
 #include "softbody/massspring/mass_spring_settings.h"
+#include "softbody/massspring/model_potential_factory.h"
 #include "softbody/material/mass.h"
 
 #include <memory>
@@ -28,9 +29,10 @@ public:
 };
 
 /// The strategy for scene.integrator (which must be implicit), over the prepared body.
-/// `scene` is the solve's scene: its floor is where contacts hold points.
+/// `scene` is the solve's scene: its floor is where contacts hold points. `positions` are the
+/// body's starting positions (the static solve checks that its fixed points hold it).
 std::unique_ptr<ImplicitIntegrator> makeImplicitIntegrator(const SceneSettings& scene,
-  const Topology& topology, const ElementConstants& constants, const PointMasses& masses,
-  const std::vector<Vec3>& restPositions);
+  const Topology& topology, const BodyElements& elements, const PointMasses& masses,
+  const std::vector<Vec3>& restPositions, const std::vector<Vec3>& positions);
 
 } // namespace softbody

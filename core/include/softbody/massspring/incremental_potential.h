@@ -83,6 +83,11 @@ public:
   /// the RMS speed at the step's start over h (a body thrown without gravity), never 0.
   double referenceAcceleration(double gravityNorm) const;
 
+  /// Drops inertia from Phi: what is left, the elastic energy minus gravity's work, is minimal
+  /// at the static equilibrium (the Static integrator). Damping must be off in the model.
+  void makeStatic() { Static = true; }
+  bool isStatic() const { return Static; }
+
   const std::vector<char>& active() const { return Active; }
   double inverseMass(std::size_t i) const { return InverseMass[i]; }
   std::size_t vertexCount() const { return Active.size(); }
@@ -103,6 +108,7 @@ protected:
   Vec3 Gravity;
   std::vector<char> Active; ///< free points (inverse mass > 0)
   double ActiveMass = 0.0;
+  bool Static = false; ///< no inertia (makeStatic)
 
   // Per step
   double H = 0.0;
@@ -207,7 +213,7 @@ double ModelPotential<Model>::evaluate(const std::vector<Vec3>& x, std::vector<V
       return;
     }
     const double m = 1.0 / InverseMass[i];
-    Vec3 sum = m * ((x[i] - Target[i]) / h2 - Gravity);
+    Vec3 sum = Static ? Vec3(-m * Gravity) : Vec3(m * ((x[i] - Target[i]) / h2 - Gravity));
     forEachFamily([&](const auto& family, auto& data) {
       family.forEachCorner(static_cast<std::int32_t>(i), [&](std::size_t e, int a) {
         sum += family.cornerGradient(data.step[e], data.atX[e], a);
@@ -275,7 +281,7 @@ void ModelPotential<Model>::assembleHessian(
       }
       return;
     }
-    diagonal = Mat3::Identity() / (h2 * InverseMass[i]);
+    diagonal = Static ? Mat3::Zero() : Mat3(Mat3::Identity() / (h2 * InverseMass[i]));
     // The off-diagonal blocks start at -0, the exact identity of IEEE addition (x + -0 = x for
     // every x, +0 included), so a block written by one element holds that element's value to
     // the last bit, sign of zero included.

@@ -5,8 +5,14 @@
 #include "softbody/common/step_plan.h"
 #include "softbody/massspring/mass_spring_setup.h"
 
+#include <string>
+
 namespace softbody
 {
+
+/// What the plan calls the element pass of a body: "springs", "springs + volumes" or
+/// "tets, <model>".
+std::string elementPassLabel(MaterialModel model, bool hasVolumeTerm);
 
 /// The GPU stepper's plan: forces, integrate, then strain limit only when a limit is set,
 /// floor only when there is a floor (its own floor pass), and the divergence check.
@@ -18,6 +24,6 @@ StepPlan planMassSpring(const MassSpringSetup& setup);
 /// response, contact_response.h) when anything can be touched: the floor (explicit
 /// integrators), obstacles (`hasObstacles`), or other bodies and the body itself (Collisions
 /// mode); the divergence check last.
-StepPlan planMassSpring(const SceneSettings& scene, bool hasVolumeTerm, bool hasObstacles);
+StepPlan planMassSpring(const SceneSettings& scene, const std::string& elements, bool hasObstacles);
 
 } // namespace softbody

@@ -7,6 +7,7 @@
 #include "softbody/common/state.h"
 #include "softbody/massspring/mass_spring_settings.h"
 #include "softbody/material/mass.h"
+#include "softbody/material/tet_elasticity.h"
 
 #include <string>
 #include <vector>
@@ -20,7 +21,10 @@ struct MassSpringSetup
   SceneSettings scene; ///< as given, with the floor normal normalized
   TetMesh mesh;        ///< validated; inverted tets re-oriented per scene.invertedTets
   Topology topology;
+  MaterialModel model = MaterialModel::SpringNetwork;
+  /// The spring network's constants; for a continuum model only its geometry and damping time.
   ElementConstants constants;
+  TetElasticConstants tetConstants; ///< the continuum models' (empty for the network)
   PointMasses masses;
   double step = 0.0;       ///< step size advance() uses at most [s]
   double stableStep = 0.0; ///< estimated stable step of scene.integrator [s]; 0 if none

@@ -13,6 +13,7 @@
 #include "softbody/massspring/projective_dynamics.h"
 #include "softbody/massspring/strain_limit.h"
 #include "softbody/material/mass.h"
+#include "softbody/material/tet_elastic_forces.h"
 
 #include <memory>
 #include <string>
@@ -47,8 +48,15 @@ public:
   double totalMass() const override { return Masses.totalMass; }
   const Topology& topology() const { return Topo; }
   const ElementConstants& elementConstants() const { return Constants; }
+  MaterialModel materialModel() const { return Model; }
+  /// The continuum models' per-tet constants (empty for the spring network).
+  const TetElasticConstants& tetElasticConstants() const { return TetConstants; }
+  /// Green strain, Cauchy and von Mises stress and energy density per tet of the current state
+  /// (continuum models; the spring network has no stress tensor and gets empty arrays).
+  TetStressField stressField() const override;
   /// Kinetic plus elastic energy of the current state [J] (for tests and the accuracy lab).
   double mechanicalEnergy() const;
+  double elasticEnergy() const override; ///< [J]
 
   /// Current over rest volume of each tet (in core's orientation: inverted input tets that
   /// were re-oriented report positive ratios).
@@ -93,7 +101,9 @@ private:
   SceneSettings Scene;
   TetMesh Mesh;
   Topology Topo;
+  MaterialModel Model = MaterialModel::SpringNetwork;
   ElementConstants Constants;
+  TetElasticConstants TetConstants;
   PointMasses Masses;
   DynamicState State;
   IntegratorScratch IntegratorWork;
@@ -105,6 +115,7 @@ private:
   std::vector<std::string> Warnings;
   mutable StepPlan Plan; // stages and their timers (timed from const force evaluations)
   mutable ForceScratch ForceWork;
+  mutable TetElasticScratch TetForceWork;
   mutable std::vector<Vec3> ForceBuffer;
   std::unique_ptr<ImplicitIntegrator> Implicit; // null for the explicit integrators
   // Contacts (Collisions not Off): the detector, the step's start positions it sweeps from,

@@ -130,6 +130,8 @@ public:
   const std::vector<double>& inverseMasses() const override { return InverseMass; }
   double totalMass() const override { return Inner->totalMass(); }
   std::vector<double> tetVolumeRatios() const override;
+  TetStressField stressField() const override;
+  double elasticEnergy() const override { return Inner->elasticEnergy(); }
   double stepSize() const override { return Inner->stepSize(); }
   double estimatedStableStep() const override { return Inner->estimatedStableStep(); }
   std::string longRunWarning(double duration) const override

@@ -1,0 +1,106 @@
+#include "softbody/material/tet_elastic_forces.h"
+
+#include "softbody/common/parallel.h"
+
+#include <cmath>
+#include <limits>
+
+namespace softbody
+{
+namespace
+{
+
+constexpr std::size_t kTetGrain = 1024;
+
+SymmetricTensor symmetricOf(const Mat3& m)
+{
+  return { m(0, 0), m(1, 1), m(2, 2), m(0, 1), m(1, 2), m(0, 2) };
+}
+
+template <IsotropicLaw Law>
+void cornerForces(const Topology& topology, const TetElasticConstants& c,
+  const std::vector<Vec3>& x, const std::vector<Vec3>& v, TetElasticScratch& scratch)
+{
+  scratch.cornerForces.resize(topology.tets.size());
+  parallelFor(topology.tets.size(), kTetGrain, [&](std::size_t t) {
+    const RotationVariantSvd svd = rotationVariantSvd(deformationGradient(topology, c, t, x));
+    Mat3 stress = firstPiolaStress<Law>(svd, c.law[t]);
+    if (c.damped && c.dampingTime[t] > 0.0)
+    {
+      // The rate of F from the velocities, in the element's current frame.
+      stress += viscousStress(svd.u * svd.v.transpose(), deformationGradient(topology, c, t, v),
+        c.linear[t], c.dampingTime[t]);
+    }
+    for (std::size_t k = 0; k < 4; ++k)
+    {
+      scratch.cornerForces[t][k] = -c.restVolume[t] * stress * c.shapeGradients[t][k];
+    }
+  });
+}
+
+} // namespace
+
+void computeTetElasticForces(const Topology& topology, const TetElasticConstants& constants,
+  const std::vector<Vec3>& x, const std::vector<Vec3>& v, TetElasticScratch& scratch,
+  std::vector<Vec3>& forces)
+{
+  withElasticLaw(constants.model, [&](auto law) {
+    cornerForces<decltype(law)>(topology, constants, x, v, scratch);
+  });
+  forces.resize(x.size());
+  parallelFor(x.size(), 4096, [&](std::size_t i) {
+    Vec3 sum = Vec3::Zero();
+    forEachTetCorner(topology, static_cast<std::int32_t>(i),
+      [&](std::size_t t, int corner) { sum += scratch.cornerForces[t][static_cast<std::size_t>(corner)]; });
+    forces[i] = sum;
+  });
+}
+
+double tetElasticEnergy(const Topology& topology, const TetElasticConstants& constants,
+  const std::vector<Vec3>& x)
+{
+  return withElasticLaw(constants.model, [&](auto law) {
+    using Law = decltype(law);
+    return parallelSum(topology.tets.size(), [&](std::size_t t) {
+      const RotationVariantSvd svd =
+        rotationVariantSvd(deformationGradient(topology, constants, t, x));
+      return constants.restVolume[t] * Law::energy(svd.s, constants.law[t]);
+    });
+  });
+}
+
+TetStressField tetStressField(const Topology& topology, const TetElasticConstants& constants,
+  const std::vector<Vec3>& x)
+{
+  const std::size_t n = topology.tets.size();
+  TetStressField field;
+  field.greenStrain.resize(n);
+  field.cauchyStress.resize(n);
+  field.vonMises.resize(n);
+  field.energyDensity.resize(n);
+  withElasticLaw(constants.model, [&](auto law) {
+    using Law = decltype(law);
+    parallelFor(n, kTetGrain, [&](std::size_t t) {
+      const Mat3 f = deformationGradient(topology, constants, t, x);
+      const RotationVariantSvd svd = rotationVariantSvd(f);
+      field.greenStrain[t] = symmetricOf(0.5 * (f.transpose() * f - Mat3::Identity()));
+      field.energyDensity[t] = Law::energy(svd.s, constants.law[t]);
+      const double j = f.determinant();
+      if (!(j > 0.0))
+      {
+        // An inverted or flat tet has no Cauchy stress (no current volume to divide by).
+        field.cauchyStress[t].fill(std::numeric_limits<double>::quiet_NaN());
+        field.vonMises[t] = std::numeric_limits<double>::quiet_NaN();
+        return;
+      }
+      const Mat3 sigma = firstPiolaStress<Law>(svd, constants.law[t]) * f.transpose() / j;
+      const Mat3 symmetric = 0.5 * (sigma + sigma.transpose());
+      field.cauchyStress[t] = symmetricOf(symmetric);
+      const Mat3 deviator = symmetric - symmetric.trace() / 3.0 * Mat3::Identity();
+      field.vonMises[t] = std::sqrt(1.5 * deviator.squaredNorm());
+    });
+  });
+  return field;
+}
+
+} // namespace softbody

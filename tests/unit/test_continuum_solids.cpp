@@ -1,0 +1,369 @@
+// Continuum bodies in the mass-spring stepper: the patch test under the static solve (a TetGen
+// cube, any vertex order, both models), the hanging bar against rho g L^2 / (2E) under
+// refinement, a crushed and inverted body that recovers its shape, energy conserved to the
+// integrator's order, and the refusals a user meets (nu out of range, Raw constants,
+// Projective Dynamics, a static body that nothing holds).
+#include "softbody/common/errors.h"
+#include "softbody/common/validation.h"
+#include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/mesh/mesh_generators.h"
+#include "softbody/mesh/tetrahedralize.h"
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <random>
+
+using namespace softbody;
+
+namespace
+{
+
+constexpr MaterialModel kContinuumModels[] = { MaterialModel::Corotated,
+  MaterialModel::StableNeoHookean };
+
+/// A TetGen mesh of the unit cube with interior points, its vertices shuffled and each tet's
+/// corners rotated (orientation kept), so nothing depends on the order a mesher wrote.
+TetMesh shuffledTetGenCube()
+{
+  const std::vector<Vec3> corners{ { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
+    { 1, 0, 1 }, { 1, 1, 1 }, { 0, 1, 1 } };
+  const std::vector<std::array<std::int32_t, 3>> faces{ { 0, 2, 1 }, { 0, 3, 2 }, { 4, 5, 6 },
+    { 4, 6, 7 }, { 0, 1, 5 }, { 0, 5, 4 }, { 1, 2, 6 }, { 1, 6, 5 }, { 2, 3, 7 }, { 2, 7, 6 },
+    { 3, 0, 4 }, { 3, 4, 7 } };
+  TetrahedralizeOptions options;
+  options.maxRadiusEdgeRatio = 1.5;
+  options.maxTetVolume = 0.002;
+  const TetMesh mesh = tetrahedralizeSurface(corners, faces, options);
+  std::vector<std::int32_t> order(mesh.points.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::shuffle(order.begin(), order.end(), std::mt19937(5));
+  TetMesh shuffled;
+  shuffled.points.resize(order.size());
+  std::vector<std::int32_t> newIndex(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+  {
+    shuffled.points[k] = mesh.points[static_cast<std::size_t>(order[k])];
+    newIndex[static_cast<std::size_t>(order[k])] = static_cast<std::int32_t>(k);
+  }
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+  {
+    Tet tet;
+    for (int c = 0; c < 4; ++c)
+    {
+      tet[static_cast<std::size_t>(c)] = newIndex[static_cast<std::size_t>(mesh.tets[t][static_cast<std::size_t>(c)])];
+    }
+    if (t % 2)
+    {
+      tet = { tet[0], tet[2], tet[3], tet[1] }; // an even permutation keeps the orientation
+    }
+    shuffled.tets.push_back(tet);
+  }
+  return shuffled;
+}
+
+SceneSettings staticScene()
+{
+  SceneSettings scene;
+  scene.integrator = Integrator::Static;
+  scene.gravity = Vec3::Zero();
+  scene.collisions.mode = CollisionMode::Off;
+  scene.implicit.tolerance = 1e-10;
+  return scene;
+}
+
+/// The first Piola-Kirchhoff stress of each law written directly from its definition
+/// (independent of the singular-value form the code uses).
+Mat3 closedFormStress(MaterialModel model, const Mat3& f, const LameParameters& linear)
+{
+  const double j = f.determinant();
+  const Mat3 cofactor = j * f.inverse().transpose();
+  if (model == MaterialModel::Corotated)
+  {
+    const Eigen::JacobiSVD<Mat3> svd(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Mat3 rotation = svd.matrixU() * svd.matrixV().transpose(); // det F > 0 here
+    return 2 * linear.mu * (f - rotation) + linear.lambda * (j - 1) * cofactor;
+  }
+  const double mu = 4.0 / 3.0 * linear.mu, lambda = linear.lambda + 5.0 / 6.0 * linear.mu;
+  const double alpha = 1 + 0.75 * mu / lambda, ic = f.squaredNorm();
+  return mu * (1 - 1 / (ic + 1)) * f + lambda * (j - alpha) * cofactor;
+}
+
+BodyDescription bodyOf(TetMesh mesh, MaterialModel model, double poissonRatio = 0.3)
+{
+  BodyDescription body;
+  body.mesh = std::move(mesh);
+  body.material.model = model;
+  body.material.physical.youngsModulus = 1.0e5;
+  body.material.physical.poissonRatio = poissonRatio;
+  return body;
+}
+
+} // namespace
+
+TEST(ContinuumSolids, PatchTestReproducesAnAffineDeformationInside)
+{
+  const TetMesh cube = shuffledTetGenCube();
+  Mat3 a;
+  a << 1.10, 0.05, 0.00, 0.02, 0.93, 0.03, 0.00, -0.04, 1.06;
+  const Vec3 b(0.3, -0.2, 0.1);
+  std::vector<char> boundary(cube.points.size());
+  std::size_t interior = 0;
+  for (std::size_t i = 0; i < cube.points.size(); ++i)
+  {
+    const Vec3& p = cube.points[i];
+    boundary[i] = (p.minCoeff() < 1e-12 || p.maxCoeff() > 1 - 1e-12) ? 1 : 0;
+    interior += boundary[i] ? 0 : 1;
+  }
+  ASSERT_GT(interior, 10u) << "the cube needs interior points to test anything";
+  for (MaterialModel model : kContinuumModels)
+  {
+    BodyDescription body = bodyOf(cube, model, 0.3);
+    body.pinned = boundary;
+    MassSpringSimulation sim(body, staticScene());
+    DynamicState start = sim.state();
+    for (std::size_t i = 0; i < start.positions.size(); ++i)
+    {
+      if (boundary[i])
+      {
+        start.positions[i] = a * cube.points[i] + b;
+      }
+    }
+    sim.restoreState(start);
+    sim.advance(0.1);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < cube.points.size(); ++i)
+    {
+      worst = std::max(worst, (sim.positions()[i] - (a * cube.points[i] + b)).norm());
+    }
+    std::printf("%s: %zu points (%zu inside), %zu tets, worst interior error %.3e m\n",
+      materialModelName(model), cube.points.size(), interior, cube.tets.size(), worst);
+    EXPECT_LT(worst, 1e-9) << materialModelName(model);
+    const Mat3 expected = closedFormStress(model, a, lameFromYoung(1.0e5, 0.3)) * a.transpose() / a.determinant();
+    const TetStressField field = sim.stressField();
+    double worstStress = 0.0;
+    for (const SymmetricTensor& sigma : field.cauchyStress)
+    {
+      const SymmetricTensor want{ expected(0, 0), expected(1, 1), expected(2, 2), expected(0, 1),
+        expected(1, 2), expected(0, 2) };
+      for (int k = 0; k < 6; ++k)
+      {
+        worstStress = std::max(worstStress, std::abs(sigma[static_cast<std::size_t>(k)] - want[static_cast<std::size_t>(k)]));
+      }
+    }
+    EXPECT_LT(worstStress, 1e-6 * expected.norm()) << materialModelName(model);
+  }
+}
+
+namespace
+{
+
+/// Elongation of a bar of square section w and length L hanging from its top face, from the
+/// static solve: the mean drop of the bottom face's points.
+double hangingBarElongation(MaterialModel model, double poissonRatio, int cellsAlong)
+{
+  const double length = 1.0, width = 0.1;
+  const int across = 2;
+  BodyDescription body = bodyOf(makeTetBox(across, across, cellsAlong, width / across), model, poissonRatio);
+  for (Vec3& p : body.mesh.points)
+  {
+    p.z() *= length / width * across / cellsAlong;
+  }
+  body.material.physical.youngsModulus = 1.0e7; // strain ~1e-3: the small-strain regime
+  body.pinned.assign(body.mesh.points.size(), 0);
+  for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
+  {
+    body.pinned[i] = body.mesh.points[i].z() > length - 1e-9 ? 1 : 0;
+  }
+  SceneSettings scene = staticScene();
+  scene.gravity = Vec3(0, 0, -9.81);
+  scene.implicit.tolerance = 1e-9;
+  MassSpringSimulation sim(body, scene);
+  sim.advance(0.1);
+  double drop = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
+  {
+    if (body.mesh.points[i].z() < 1e-9)
+    {
+      drop += body.mesh.points[i].z() - sim.positions()[i].z();
+      ++count;
+    }
+  }
+  return drop / count;
+}
+
+} // namespace
+
+TEST(ContinuumSolids, HangingBarMatchesUniaxialStressUnderRefinement)
+{
+  // nu = 0: uniaxial stress holds exactly and the continuum elongation is rho g L^2 / (2 E);
+  // what is left at the finest mesh is geometric nonlinearity (strain ~1e-3). At nu > 0 the
+  // clamped top face stops the lateral contraction there: the discrete error then falls at
+  // first order (the clamped edges are singular), and the Richardson limit of the three meshes
+  // differs from the uniaxial value by the continuum's end effect, of the order of the
+  // section's contraction over the length.
+  const double exact = 1100.0 * 9.81 * 1.0 / (2 * 1.0e7);
+  for (MaterialModel model : kContinuumModels)
+  {
+    for (double nu : { 0.0, 0.3, 0.45 })
+    {
+      std::array<double, 3> error{};
+      const std::array<int, 3> cells{ 5, 10, 20 };
+      for (std::size_t k = 0; k < 3; ++k)
+      {
+        error[k] = hangingBarElongation(model, nu, cells[k]) / exact - 1;
+        std::printf("%s nu %.2f, %2d cells along: relative error %+.3e\n",
+          materialModelName(model), nu, cells[k], error[k]);
+      }
+      if (nu == 0.0)
+      {
+        EXPECT_LT(std::abs(error[2]), 2e-3) << materialModelName(model);
+        continue;
+      }
+      const double ratio = (error[0] - error[1]) / (error[1] - error[2]);
+      const double order = std::log2(ratio);
+      const double limit = error[2] - (error[1] - error[2]) / (ratio - 1);
+      std::printf("  measured order %.2f, extrapolated limit %+.3e\n", order, limit);
+      EXPECT_GT(order, 0.8) << materialModelName(model) << " nu " << nu;
+      EXPECT_LT(std::abs(limit), 0.01) << materialModelName(model) << " nu " << nu;
+    }
+  }
+}
+
+TEST(ContinuumSolids, CrushedAndInvertedBodyRecoversItsRestShape)
+{
+  const TetMesh box = makeTetBox(4, 4, 4, 0.05);
+  for (MaterialModel model : kContinuumModels)
+  {
+    BodyDescription body = bodyOf(box, model, 0.3);
+    SceneSettings scene;
+    scene.integrator = Integrator::ImplicitEuler;
+    scene.gravity = Vec3::Zero();
+    scene.collisions.mode = CollisionMode::Off;
+    scene.timeStep = 1.0 / 120;
+    MassSpringSimulation sim(body, scene);
+    DynamicState crushed = sim.state();
+    for (Vec3& p : crushed.positions)
+    {
+      p.z() *= -0.2; // every tet flattened to a fifth and turned inside out
+    }
+    sim.restoreState(crushed);
+    const std::vector<double> before = sim.tetVolumeRatios();
+    ASSERT_LT(*std::max_element(before.begin(), before.end()), 0.0);
+    sim.advance(2.0);
+    const std::vector<double> ratios = sim.tetVolumeRatios();
+    const auto [lo, hi] = std::minmax_element(ratios.begin(), ratios.end());
+    std::printf("%s: volume ratios after 2 s in [%.4f, %.4f]\n", materialModelName(model), *lo, *hi);
+    EXPECT_GT(*lo, 0.95) << materialModelName(model);
+    EXPECT_LT(*hi, 1.05) << materialModelName(model);
+  }
+}
+
+TEST(ContinuumSolids, MidpointConservesEnergyToSecondOrder)
+{
+  // An undamped body released from a stretched shape: the energy error of a second-order
+  // integrator falls at least as h^2. (Midpoint, not Verlet: Verlet's velocity is staggered by
+  // half a step, so the energy computed from it is only first-order accurate.)
+  for (MaterialModel model : kContinuumModels)
+  {
+    double previous = 0.0;
+    for (double h : { 1e-4, 5e-5 })
+    {
+      BodyDescription body = bodyOf(makeTetBox(3, 3, 3, 0.05), model, 0.3);
+      body.material.physical.dampingTime = 0.0;
+      SceneSettings scene;
+      scene.integrator = Integrator::Midpoint;
+      scene.gravity = Vec3::Zero();
+      scene.collisions.mode = CollisionMode::Off;
+      scene.timeStep = h;
+      MassSpringSimulation sim(body, scene);
+      DynamicState stretched = sim.state();
+      for (Vec3& p : stretched.positions)
+      {
+        p.x() *= 1.1;
+      }
+      sim.restoreState(stretched);
+      const double e0 = sim.mechanicalEnergy();
+      double worst = 0.0;
+      for (int frame = 1; frame <= 20; ++frame)
+      {
+        sim.advance(frame * 0.001);
+        worst = std::max(worst, std::abs(sim.mechanicalEnergy() / e0 - 1));
+      }
+      std::printf("%s h %.0e: largest relative energy error %.3e\n", materialModelName(model), h, worst);
+      if (previous > 0.0)
+      {
+        const double order = std::log2(previous / worst);
+        std::printf("  measured order %.2f\n", order);
+        EXPECT_GT(order, 1.7) << materialModelName(model);
+      }
+      EXPECT_LT(worst, 1e-2) << materialModelName(model);
+      previous = worst;
+    }
+  }
+}
+
+namespace
+{
+
+std::string refusal(BodyDescription body, SceneSettings scene)
+{
+  try
+  {
+    MassSpringSimulation sim(std::move(body), scene);
+  }
+  catch (const InvalidInputError& error)
+  {
+    return error.what();
+  }
+  return {};
+}
+
+} // namespace
+
+TEST(ContinuumSolids, RefusesWhatHasNoMeaningQuotingTheValue)
+{
+  const TetMesh box = makeTetBox(2, 2, 2, 0.1);
+  SceneSettings scene;
+  for (double nu : { 0.5, -1.0, 0.7 })
+  {
+    const std::string message = refusal(bodyOf(box, MaterialModel::Corotated, nu), scene);
+    EXPECT_NE(message.find("PoissonRatio"), std::string::npos) << message;
+    EXPECT_NE(message.find(check::quote(nu)), std::string::npos) << message;
+  }
+  BodyDescription raw = bodyOf(box, MaterialModel::StableNeoHookean);
+  raw.material.mode = MaterialMode::Raw;
+  EXPECT_NE(refusal(raw, scene).find("MaterialMode to Physical"), std::string::npos);
+  SceneSettings projective = scene;
+  projective.integrator = Integrator::ProjectiveDynamics;
+  EXPECT_NE(refusal(bodyOf(box, MaterialModel::Corotated), projective).find("Implicit Euler"),
+    std::string::npos);
+  const std::string unheld = refusal(bodyOf(box, MaterialModel::Corotated), staticScene());
+  EXPECT_NE(unheld.find("0 fixed points"), std::string::npos) << unheld;
+  BodyDescription onALine = bodyOf(box, MaterialModel::Corotated);
+  onALine.pinned.assign(box.points.size(), 0);
+  for (std::size_t i = 0; i < box.points.size(); ++i)
+  {
+    onALine.pinned[i] = box.points[i].y() < 1e-9 && box.points[i].z() < 1e-9 ? 1 : 0;
+  }
+  EXPECT_NE(refusal(onALine, staticScene()).find("on one line"), std::string::npos);
+}
+
+TEST(ContinuumSolids, NegativePoissonRatioIsTakenAsGivenAndNearIncompressibleIsWarned)
+{
+  const TetMesh box = makeTetBox(2, 2, 2, 0.1);
+  SceneSettings scene;
+  scene.collisions.mode = CollisionMode::Off;
+  MassSpringSimulation auxetic(bodyOf(box, MaterialModel::Corotated, -0.4), scene);
+  EXPECT_TRUE(auxetic.warnings().empty()) << auxetic.warnings().front();
+  MassSpringSimulation rubber(bodyOf(box, MaterialModel::StableNeoHookean, 0.49), scene);
+  ASSERT_EQ(rubber.warnings().size(), 1u);
+  EXPECT_NE(rubber.warnings().front().find("PoissonRatio 0.49"), std::string::npos);
+  EXPECT_NE(rubber.warnings().front().find("lock"), std::string::npos);
+}
