@@ -80,6 +80,7 @@ public:
   using enum vtkSoftBodyParameters::SolverType;
   using enum vtkSoftBodyParameters::IntegratorType;
   using enum vtkSoftBodyParameters::MaterialModeType;
+  using enum vtkSoftBodyParameters::MaterialModelType;
   using enum vtkSoftBodyParameters::MassDistributionType;
   using enum vtkSoftBodyParameters::InvertedTetsType;
   using enum vtkSoftBodyParameters::DeviceType;
@@ -202,7 +203,9 @@ public:
   /**
    * Integrator: EULER, MIDPOINT, VERLET or EULER_CROMER (default, symplectic and cheap), or
    * the implicit IMPLICIT_EULER (Newton + PCG) and PROJECTIVE_DYNAMICS (prefactored
-   * local/global iterations), stable at any step (Mass-Spring on the CPU only).
+   * local/global iterations), stable at any step, or STATIC: the static equilibrium at each
+   * frame (Newton on the elastic energy and gravity; the body must be held by pinned points)
+   * (Mass-Spring on the CPU only).
    */
   vtkSoftBodyParameterMacro(Integrator, int);
   ///@}
@@ -262,6 +265,16 @@ public:
    * points never move). Empty or "None" (default) pins nothing.
    */
   vtkSoftBodyStringParameterMacro(PinnedPointsArray);
+  ///@}
+
+  ///@{
+  /**
+   * MaterialModel (Mass-Spring): SPRING_NETWORK (default, the thesis's springs and volumes),
+   * or the finite-element tets COROTATED and STABLE_NEO_HOOKEAN, whose YoungsModulus and
+   * PoissonRatio (-1 < nu < 0.5) mean what they mean in a paper. The Mesh output then carries
+   * GreenStrain, CauchyStress, VonMisesStress and StrainEnergyDensity per cell.
+   */
+  vtkSoftBodyParameterMacro(MaterialModel, int);
   ///@}
 
   ///@{

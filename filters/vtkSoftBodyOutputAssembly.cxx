@@ -9,6 +9,7 @@
 #include "vtkSoftBodySettings.h"
 #include "vtkSoftBodySimulationFactory.h"
 #include "vtkSoftBodySkin.h"
+#include "vtkSoftBodyStressOutput.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -28,6 +29,7 @@
 #include "softbody/massspring/mass_spring_reordered.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 
+#include <cmath>
 #include <numeric>
 
 using vtkSoftBodyArrays::MakeScalarArray;
@@ -168,8 +170,15 @@ std::string vtkSoftBodyOutputAssembly::FillMesh(vtkUnstructuredGrid* input,
       vtkSoftBodyInversionReport::Warning(inverted, tetCount, simulation.time(), p);
   }
 
+  vtkSoftBodyStressOutput::Add(simulation.stressField(), simulation.restPositions(), output);
+
   vtkFieldData* field = output->GetFieldData();
   field->AddArray(MakeScalarArray("SimulationTime", { simulation.time() }));
+  if (const double elastic = simulation.elasticEnergy(); std::isfinite(elastic))
+  {
+    field->AddArray(MakeScalarArray("ElasticEnergy", { elastic }));
+  }
+  field->AddArray(MakeScalarArray("KineticEnergy", { simulation.kineticEnergy() }));
   auto steps = vtkSmartPointer<vtkIdTypeArray>::New();
   steps->SetName("StepCount");
   steps->InsertNextValue(static_cast<vtkIdType>(simulation.stepCount()));

@@ -41,7 +41,14 @@ struct vtkSoftBodyParameters
     VERLET = 2,
     EULER_CROMER = 3,
     IMPLICIT_EULER = 4,
-    PROJECTIVE_DYNAMICS = 5
+    PROJECTIVE_DYNAMICS = 5,
+    STATIC = 6
+  };
+  enum MaterialModelType
+  {
+    SPRING_NETWORK = 0,
+    COROTATED = 1,
+    STABLE_NEO_HOOKEAN = 2
   };
   enum MaterialModeType
   {
@@ -91,6 +98,7 @@ struct vtkSoftBodyParameters
   double FloorOrigin[3] = { 0.0, 0.0, 0.0 };
   double FloorNormal[3] = { 0.0, 0.0, 1.0 };
   std::string PinnedPointsArray;
+  int MaterialModel = SPRING_NETWORK;
   int MaterialMode = PHYSICAL;
   double YoungsModulus = 1.0e5;
   double PoissonRatio = 0.3;

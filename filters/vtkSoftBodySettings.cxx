@@ -114,6 +114,15 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
       softbody::integratorName(vtkSoftBodySettings::Integrator(p.Integrator)) +
       "). Choose one of those two.");
   }
+  if (p.MaterialModel != vtkSoftBodyFilter::SPRING_NETWORK)
+  {
+    // The continuum models' XPBD constraints are not built yet: refuse rather than run links.
+    throw softbody::InvalidInputError("MaterialModel " + std::to_string(p.MaterialModel) + " (" +
+      softbody::materialModelName(vtkSoftBodySettings::Material(p).model) +
+      ") runs under Method Mass-Spring (Implicit Euler, Static or an explicit integrator); PBD "
+      "and XPBD have their own constraints (XPBDMaterial). Set Method to Mass-Spring, or "
+      "MaterialModel to Spring Network.");
+  }
   s.prediction = p.Integrator == vtkSoftBodyFilter::VERLET ? softbody::PbdPrediction::Verlet
                                                            : softbody::PbdPrediction::SymplecticEuler;
   s.timeStep = p.TimeStep;
@@ -163,7 +172,8 @@ static_assert(vtkSoftBodyFilter::EULER == int(softbody::Integrator::Euler) &&
     vtkSoftBodyFilter::VERLET == int(softbody::Integrator::Verlet) &&
     vtkSoftBodyFilter::EULER_CROMER == int(softbody::Integrator::EulerCromer) &&
     vtkSoftBodyFilter::IMPLICIT_EULER == int(softbody::Integrator::ImplicitEuler) &&
-    vtkSoftBodyFilter::PROJECTIVE_DYNAMICS == int(softbody::Integrator::ProjectiveDynamics),
+    vtkSoftBodyFilter::PROJECTIVE_DYNAMICS == int(softbody::Integrator::ProjectiveDynamics) &&
+    vtkSoftBodyFilter::STATIC == int(softbody::Integrator::Static),
   "the Integrator property's values must be core's Integrator values");
 
 softbody::Integrator vtkSoftBodySettings::Integrator(int integrator)
@@ -223,6 +233,12 @@ softbody::CollisionSettings vtkSoftBodySettings::Collisions(const vtkSoftBodyFil
 softbody::MaterialSettings vtkSoftBodySettings::Material(const vtkSoftBodyFilter::Parameters& p)
 {
   softbody::MaterialSettings material;
+  static_assert(vtkSoftBodyFilter::SPRING_NETWORK == int(softbody::MaterialModel::SpringNetwork) &&
+      vtkSoftBodyFilter::COROTATED == int(softbody::MaterialModel::Corotated) &&
+      vtkSoftBodyFilter::STABLE_NEO_HOOKEAN == int(softbody::MaterialModel::StableNeoHookean),
+    "the MaterialModel property's values must be core's MaterialModel values");
+  material.model = static_cast<softbody::MaterialModel>(Choice("MaterialModel", p.MaterialModel,
+    3, "0 (Spring Network), 1 (Corotated), 2 (Stable Neo-Hookean)"));
   if (Choice("MaterialMode", p.MaterialMode, 2, "0 (physical), 1 (raw constants)") ==
     vtkSoftBodyFilter::RAW_CONSTANTS)
   {
@@ -302,6 +318,7 @@ std::vector<std::string> vtkSoftBodySettings::Warnings(const vtkSoftBodyFilter::
 void vtkSoftBodySettings::PrintMaterial(
   ostream& os, vtkIndent indent, const vtkSoftBodyFilter::Parameters& p)
 {
+  os << indent << "MaterialModel: " << p.MaterialModel << "\n";
   os << indent << "MaterialMode: " << p.MaterialMode << "\n";
   os << indent << "YoungsModulus: " << p.YoungsModulus << "\n";
   os << indent << "PoissonRatio: " << p.PoissonRatio << "\n";

@@ -22,7 +22,9 @@ import numpy as np
 from vtkmodules.util import numpy_support
 from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
-from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
+from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow, vtkPoints
+from vtkmodules.vtkCommonDataModel import VTK_TETRA, vtkUnstructuredGrid
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
 
 SKIP = 77
 
@@ -169,3 +171,46 @@ def center_of_mass(particles):
 
 def isclose(a, b, rel=1e-9, abs_=1e-12):
     return math.isclose(a, b, rel_tol=rel, abs_tol=abs_)
+
+
+def write_tet_box(workdir, nx, ny, nz, cell, origin=(0.0, 0.0, 0.0), rotation=None, pinned=None):
+    """A box of nx x ny x nz cubes, each split into 6 tets around its main diagonal (Kuhn), as a
+    .vtu file in `workdir`; `pinned(p)` marks points for a "Pinned" array. Returns the path and the points."""
+    index = lambda i, j, k: (k * (ny + 1) + j) * (nx + 1) + i  # noqa: E731
+    points = np.array([[i * cell, j * cell, k * cell] for k in range(nz + 1) for j in range(ny + 1)
+                       for i in range(nx + 1)], dtype=float) + np.asarray(origin, dtype=float)
+    # The six paths from corner 0 to corner 7 of a unit cube, one axis at a time.
+    paths = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]
+    tets = []
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                for path in paths:
+                    corner = [i, j, k]
+                    tet = [index(*corner)]
+                    for axis in path:
+                        corner[axis] += 1
+                        tet.append(index(*corner))
+                    a, b, c, d = (points[t] for t in tet)
+                    if np.dot(b - a, np.cross(c - a, d - a)) < 0:  # positive orientation
+                        tet[2], tet[3] = tet[3], tet[2]
+                    tets.append(tet)
+    if rotation is not None:
+        points = points @ rotation.T
+    grid = vtkUnstructuredGrid()
+    vtk_points = vtkPoints()
+    vtk_points.SetData(numpy_support.numpy_to_vtk(points, deep=True))
+    grid.SetPoints(vtk_points)
+    for tet in tets:
+        grid.InsertNextCell(VTK_TETRA, 4, tet)
+    if pinned is not None:
+        flags = numpy_support.numpy_to_vtk(np.array([1 if pinned(p) else 0 for p in points], dtype=np.int32),
+                                           deep=True)
+        flags.SetName("Pinned")
+        grid.GetPointData().AddArray(flags)
+    path = os.path.join(workdir, f"box_{nx}x{ny}x{nz}_{len(os.listdir(workdir))}.vtu")
+    writer = vtkXMLUnstructuredGridWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(grid)
+    writer.Write()
+    return path, points
