@@ -289,6 +289,17 @@ public:
   vtkSoftBodyParameterMacro(PoissonRatio, double);
   vtkSoftBodyParameterMacro(Density, double);
   vtkSoftBodyParameterMacro(DampingTime, double);
+  ///@}
+
+  ///@{
+  /**
+   * Per-cell materials (Mass-Spring, Physical mode): a numeric one-component cell array of the
+   * input whose values replace YoungsModulus [Pa], PoissonRatio or Density [kg/m^3] cell by
+   * cell (two tissues, one value per Gmsh physical group). Empty or "None" (default): uniform.
+   */
+  vtkSoftBodyStringParameterMacro(YoungsModulusArray);
+  vtkSoftBodyStringParameterMacro(PoissonRatioArray);
+  vtkSoftBodyStringParameterMacro(DensityArray);
   vtkSoftBodyParameterMacro(DistanceStiffness, double);
   vtkSoftBodyParameterMacro(DistanceDamping, double);
   vtkSoftBodyParameterMacro(VolumeStiffness, double);

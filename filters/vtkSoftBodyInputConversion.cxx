@@ -190,6 +190,48 @@ std::string vtkSoftBodyInputConversion::ConvertPinned(
 }
 
 //------------------------------------------------------------------------------
+std::string vtkSoftBodyInputConversion::ConvertCellMaterial(vtkUnstructuredGrid* input,
+  const std::string& youngsModulusArray, const std::string& poissonRatioArray,
+  const std::string& densityArray, softbody::CellMaterial& cells)
+{
+  const auto read = [&](const char* property, const std::string& name,
+                      std::vector<double>& values) -> std::string {
+    values.clear();
+    if (IsNoArray(name))
+    {
+      return {};
+    }
+    vtkDataArray* array = vtkDataArray::SafeDownCast(input->GetCellData()->GetAbstractArray(name.c_str()));
+    if (!array)
+    {
+      return std::string(property) + " '" + name + "' is not a numeric cell-data array of the "
+        "input. Choose a numeric cell array (one value per cell) or None.";
+    }
+    if (array->GetNumberOfComponents() != 1)
+    {
+      return std::string(property) + " '" + name + "' has " +
+        std::to_string(array->GetNumberOfComponents()) + " components; it needs one value per cell.";
+    }
+    values.resize(static_cast<std::size_t>(array->GetNumberOfTuples()));
+    for (vtkIdType c = 0; c < array->GetNumberOfTuples(); ++c)
+    {
+      values[static_cast<std::size_t>(c)] = array->GetComponent(c, 0);
+    }
+    return {};
+  };
+  std::string error = read("YoungsModulusArray", youngsModulusArray, cells.youngsModulus);
+  if (error.empty())
+  {
+    error = read("PoissonRatioArray", poissonRatioArray, cells.poissonRatio);
+  }
+  if (error.empty())
+  {
+    error = read("DensityArray", densityArray, cells.density);
+  }
+  return error;
+}
+
+//------------------------------------------------------------------------------
 namespace
 {
 std::int32_t ToIndex(vtkIdType id)

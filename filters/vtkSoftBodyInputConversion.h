@@ -45,6 +45,16 @@ public:
     const std::string& pinnedArrayName, softbody::PbdBody& body, std::vector<vtkIdType>& tetCells,
     std::vector<vtkIdType>& linkCells);
 
+  /**
+   * The per-cell material values of the named cell arrays (empty names: uniform) into `cells`,
+   * one per input cell (which are all tets for Mass-Spring). Returns the message for the user
+   * when an array is missing, not numeric or has more than one component; the values
+   * themselves are core's to check (each refusal names the cell).
+   */
+  static std::string ConvertCellMaterial(vtkUnstructuredGrid* input,
+    const std::string& youngsModulusArray, const std::string& poissonRatioArray,
+    const std::string& densityArray, softbody::CellMaterial& cells);
+
   /// True when `name` selects no array (empty or the XML domain's "None" entry).
   static bool IsNoArray(const std::string& name);
 

@@ -104,6 +104,9 @@ struct vtkSoftBodyParameters
   double PoissonRatio = 0.3;
   double Density = 1100.0;
   double DampingTime = 2.0e-3;
+  std::string YoungsModulusArray;
+  std::string PoissonRatioArray;
+  std::string DensityArray;
   // Raw-mode defaults: vtkSoftBodySettings::DefaultParameters sets them from core's
   // softbody::RawConstants.
   double DistanceStiffness = 0.0;

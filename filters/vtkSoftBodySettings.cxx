@@ -286,9 +286,22 @@ vtkSoftBodyCoreSettings vtkSoftBodySettings::Convert(const vtkSoftBodyFilter::Pa
   settings.FrameInterval = p.FrameInterval;
   settings.PinnedPointsArray =
     vtkSoftBodyInputConversion::IsNoArray(p.PinnedPointsArray) ? "" : p.PinnedPointsArray;
+  const auto arrayName = [](const std::string& name) {
+    return vtkSoftBodyInputConversion::IsNoArray(name) ? std::string() : name;
+  };
   if (settings.Method == vtkSoftBodyFilter::MASS_SPRING)
   {
     ConvertMassSpring(p, settings);
+    settings.YoungsModulusArray = arrayName(p.YoungsModulusArray);
+    settings.PoissonRatioArray = arrayName(p.PoissonRatioArray);
+    settings.DensityArray = arrayName(p.DensityArray);
+  }
+  else if (!arrayName(p.YoungsModulusArray).empty() || !arrayName(p.PoissonRatioArray).empty() ||
+    !arrayName(p.DensityArray).empty())
+  {
+    throw softbody::InvalidInputError("Per-cell material arrays (YoungsModulusArray, "
+      "PoissonRatioArray, DensityArray) are read by Method Mass-Spring; PBD and XPBD take "
+      "uniform values. Set them to None, or Method to Mass-Spring.");
   }
   else
   {
@@ -319,6 +332,9 @@ void vtkSoftBodySettings::PrintMaterial(
   ostream& os, vtkIndent indent, const vtkSoftBodyFilter::Parameters& p)
 {
   os << indent << "MaterialModel: " << p.MaterialModel << "\n";
+  os << indent << "YoungsModulusArray: " << p.YoungsModulusArray << "\n";
+  os << indent << "PoissonRatioArray: " << p.PoissonRatioArray << "\n";
+  os << indent << "DensityArray: " << p.DensityArray << "\n";
   os << indent << "MaterialMode: " << p.MaterialMode << "\n";
   os << indent << "YoungsModulus: " << p.YoungsModulus << "\n";
   os << indent << "PoissonRatio: " << p.PoissonRatio << "\n";

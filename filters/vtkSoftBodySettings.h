@@ -30,6 +30,8 @@ struct vtkSoftBodyCoreSettings
   int Device = vtkSoftBodyFilter::DEVICE_CPU; ///< as asked for (Mass-Spring only; PBD runs on the CPU)
   double FrameInterval = 0.0;                 ///< frames are cached on this grid [s]
   std::string PinnedPointsArray;              ///< empty: nothing pinned
+  /// Cell arrays of per-cell YoungsModulus, PoissonRatio, Density (Mass-Spring); empty: uniform.
+  std::string YoungsModulusArray, PoissonRatioArray, DensityArray;
 
   // Mass-Spring
   softbody::SceneSettings Scene;

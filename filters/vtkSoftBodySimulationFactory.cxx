@@ -55,6 +55,12 @@ bool BuildMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& 
     return false;
   }
   body.material = settings.Material;
+  error = vtkSoftBodyInputConversion::ConvertCellMaterial(input, settings.YoungsModulusArray,
+    settings.PoissonRatioArray, settings.DensityArray, body.material.cells);
+  if (!error.empty())
+  {
+    return false;
+  }
 
   // Throws InvalidInputError for bad geometry or material; the caller reports it.
   // The GPU stepper collides with the floor only (like the implicit integrators' fallback,

@@ -15,6 +15,10 @@ BodyDescription reorderBody(const BodyDescription& body, const Reordering& reord
   stored.mesh.tets = reorderTets(body.mesh.tets, reordering);
   stored.pinned = toStorageOrder(body.pinned, reordering.vertexOrder);
   stored.material = body.material;
+  CellMaterial& cells = stored.material.cells;
+  cells.youngsModulus = toStorageOrder(cells.youngsModulus, reordering.tetOrder);
+  cells.poissonRatio = toStorageOrder(cells.poissonRatio, reordering.tetOrder);
+  cells.density = toStorageOrder(cells.density, reordering.tetOrder);
   return stored;
 }
 

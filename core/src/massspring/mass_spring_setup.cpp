@@ -121,14 +121,30 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
       computeTetElasticConstants(s.topology, s.mesh.points, body.material, repeated);
   }
 
+  // Each tet's mass (rho_t V_t) is spread over its points; with a uniform density that is the
+  // rest volume in proportion, as it always was.
   double restVolume = 0.0;
   for (double v : s.constants.restVolume)
   {
     restVolume += v;
   }
-  s.masses = distributeMass(s.topology, s.constants.restVolume,
-    totalMassOf(body.material, restVolume), body.material.massDistribution,
-    body.material.maxInverseMass, body.pinned);
+  if (body.material.cells.density.empty())
+  {
+    s.masses = distributeMass(s.topology, s.constants.restVolume,
+      totalMassOf(body.material, restVolume), body.material.massDistribution,
+      body.material.maxInverseMass, body.pinned);
+  }
+  else
+  {
+    const std::vector<double> masses = tetMasses(body.material, s.constants.restVolume);
+    double total = 0.0;
+    for (double m : masses)
+    {
+      total += m;
+    }
+    s.masses = distributeMass(s.topology, masses, total, body.material.massDistribution,
+      body.material.maxInverseMass, body.pinned);
+  }
   if (s.masses.truncatedCount > 0)
   {
     std::ostringstream message;

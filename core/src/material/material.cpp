@@ -59,6 +59,77 @@ void validateContinuum(const MaterialSettings& material, std::vector<std::string
   }
 }
 
+std::string cellRefusal(const char* name, std::size_t cell, const std::string& rule, double value)
+{
+  return std::string(name) + " of cell " + std::to_string(cell) + " must be " + rule + ", got " +
+    check::quote(value) + ".";
+}
+
+/// The per-cell values: sizes, then each value, a refusal naming the first bad cell.
+void validateCells(const MaterialSettings& material, std::size_t tetCount,
+  std::vector<std::string>& warnings)
+{
+  const CellMaterial& c = material.cells;
+  if (c.empty())
+  {
+    return;
+  }
+  if (material.mode != MaterialMode::Physical)
+  {
+    throw InvalidInputError("Per-cell YoungsModulus, PoissonRatio or Density arrays need "
+                            "MaterialMode Physical (the Raw constants are uniform).");
+  }
+  const auto checkSize = [&](const char* name, const std::vector<double>& values) {
+    if (!values.empty() && values.size() != tetCount)
+    {
+      throw InvalidInputError(std::string("The per-cell ") + name + " has " +
+        std::to_string(values.size()) + " values for " + std::to_string(tetCount) + " tets.");
+    }
+  };
+  checkSize("YoungsModulus", c.youngsModulus);
+  checkSize("PoissonRatio", c.poissonRatio);
+  checkSize("Density", c.density);
+  const bool continuum = isContinuum(material.model);
+  std::size_t raised = 0, locking = 0, first = 0;
+  for (std::size_t t = 0; t < tetCount; ++t)
+  {
+    if (!c.youngsModulus.empty() && !(c.youngsModulus[t] > 0.0 && std::isfinite(c.youngsModulus[t])))
+    {
+      throw InvalidInputError(cellRefusal("YoungsModulus", t, "> 0 Pa", c.youngsModulus[t]));
+    }
+    if (!c.density.empty() && !(c.density[t] > 0.0 && std::isfinite(c.density[t])))
+    {
+      throw InvalidInputError(cellRefusal("Density", t, "> 0 kg/m^3", c.density[t]));
+    }
+    if (c.poissonRatio.empty())
+    {
+      continue;
+    }
+    const double nu = c.poissonRatio[t];
+    if (continuum ? !(nu > -1.0 && nu < 0.5) : !(nu >= 0.0 && nu < 0.5))
+    {
+      throw InvalidInputError(cellRefusal("PoissonRatio", t, continuum ? "in (-1, 0.5)" : "in [0, 0.5)", nu));
+    }
+    const bool said = continuum ? nu > kLockingPoissonRatio : nu < kNetworkPoissonRatio;
+    first = said && raised + locking == 0 ? t : first;
+    (continuum ? locking : raised) += said ? 1 : 0;
+  }
+  if (raised > 0)
+  {
+    warnings.push_back("PoissonRatio is below " + check::quote(kNetworkPoissonRatio) + " in " +
+      std::to_string(raised) + " cells (the first: cell " + std::to_string(first) + ", " +
+      check::quote(c.poissonRatio[first]) + "), the smallest a mass-spring network can represent; " +
+      check::quote(kNetworkPoissonRatio) + " is used there.");
+  }
+  if (locking > 0)
+  {
+    warnings.push_back("PoissonRatio is nearly incompressible in " + std::to_string(locking) +
+      " cells (the first: cell " + std::to_string(first) + ", " + check::quote(c.poissonRatio[first]) +
+      "): linear tets lock there (respond stiffer than the material). Refine the mesh there, or "
+      "use a PoissonRatio of at most " + check::quote(kLockingPoissonRatio) + " if the material allows.");
+  }
+}
+
 } // namespace
 
 const char* materialModelName(MaterialModel model)
@@ -75,8 +146,10 @@ const char* materialModelName(MaterialModel model)
   return "unknown";
 }
 
-void validateMaterial(const MaterialSettings& material, std::vector<std::string>& warnings)
+void validateMaterial(const MaterialSettings& material, std::vector<std::string>& warnings,
+  std::size_t tetCount)
 {
+  validateCells(material, tetCount, warnings);
   if (isContinuum(material.model))
   {
     validateContinuum(material, warnings);
@@ -109,6 +182,16 @@ void validateMaterial(const MaterialSettings& material, std::vector<std::string>
   check::nonNegative("MaxInverseMass", material.maxInverseMass, "1/kg", "off");
 }
 
+std::vector<double> tetMasses(const MaterialSettings& material, const std::vector<double>& restVolume)
+{
+  std::vector<double> masses(restVolume.size());
+  for (std::size_t t = 0; t < restVolume.size(); ++t)
+  {
+    masses[t] = material.physicalOf(t).density * restVolume[t];
+  }
+  return masses;
+}
+
 double totalMassOf(const MaterialSettings& material, double restVolume)
 {
   return material.mode == MaterialMode::Physical ? material.physical.density * restVolume
@@ -119,7 +202,7 @@ ElementConstants computeElementConstants(const Topology& topology,
   const std::vector<Vec3>& restPositions, const MaterialSettings& material,
   std::vector<std::string>& warnings)
 {
-  validateMaterial(material, warnings);
+  validateMaterial(material, warnings, topology.tets.size());
   const std::size_t edgeCount = topology.edges.size();
   const std::size_t tetCount = topology.tets.size();
 
@@ -131,26 +214,37 @@ ElementConstants computeElementConstants(const Topology& topology,
   c.volumeStiffness.resize(tetCount);
   c.volumeDamping.resize(tetCount);
 
-  // Volume attributed to each edge: a sixth of each tet around it.
+  // A continuum model keeps only the network's geometry (rest lengths and volumes: the stretch
+  // check, strain limit and volume ratios use them) and its damping time; its stiffness lives
+  // in tet_elasticity.h's constants, so no spring here can stiffen it.
+  const bool physical = material.mode == MaterialMode::Physical;
+  const bool network = physical && !isContinuum(material.model);
+  const EnergyConstants perVolume =
+    network ? physicalEnergyConstants(material.physical) : EnergyConstants{};
+  // Per-cell moduli: each tet's share of an edge's spring carries that tet's moduli.
+  const bool perCell =
+    network && !(material.cells.youngsModulus.empty() && material.cells.poissonRatio.empty());
+  std::vector<EnergyConstants> tetPerVolume(perCell ? tetCount : 0);
+  for (std::size_t t = 0; t < tetPerVolume.size(); ++t)
+  {
+    tetPerVolume[t] = physicalEnergyConstants(material.physicalOf(t));
+  }
+
+  // Volume attributed to each edge: a sixth of each tet around it (per cell: that volume times
+  // the tet's distance constant, so edgeVolume holds k_D directly).
   std::vector<double> edgeVolume(edgeCount, 0.0);
   for (std::size_t t = 0; t < tetCount; ++t)
   {
     const Tet& tet = topology.tets[t];
     c.restVolume[t] = signedTetVolume(
       restPositions[tet[0]], restPositions[tet[1]], restPositions[tet[2]], restPositions[tet[3]]);
+    const double share = perCell ? tetPerVolume[t].distancePerVolume : 1.0;
     for (int k = 0; k < 6; ++k)
     {
-      edgeVolume[topology.tetEdges.items[6 * t + k]] += c.restVolume[t] / 6.0;
+      edgeVolume[topology.tetEdges.items[6 * t + k]] += perCell ? share * c.restVolume[t] / 6.0
+                                                                : c.restVolume[t] / 6.0;
     }
   }
-
-  // A continuum model keeps only the network's geometry (rest lengths and volumes: the stretch
-  // check, strain limit and volume ratios use them) and its damping time; its stiffness lives
-  // in tet_elasticity.h's constants, so no spring here can stiffen it.
-  const bool physical = material.mode == MaterialMode::Physical;
-  const EnergyConstants perVolume = physical && !isContinuum(material.model)
-    ? physicalEnergyConstants(material.physical)
-    : EnergyConstants{};
   const double beta = material.physical.dampingTime;
 
   for (std::size_t e = 0; e < edgeCount; ++e)
@@ -158,8 +252,9 @@ ElementConstants computeElementConstants(const Topology& topology,
     const Edge& edge = topology.edges[e];
     const double l0 = (restPositions[edge.b] - restPositions[edge.a]).norm();
     c.restLength[e] = l0;
-    const double kD = physical ? perVolume.distancePerVolume * edgeVolume[e]
-                               : material.raw.distanceStiffness;
+    const double kD = perCell ? edgeVolume[e]
+      : physical              ? perVolume.distancePerVolume * edgeVolume[e]
+                              : material.raw.distanceStiffness;
     const double kDd = physical ? beta * kD : material.raw.distanceDamping;
     c.springStiffness[e] = kD / (l0 * l0);
     c.springDamping[e] = kDd / (l0 * l0);
@@ -167,7 +262,9 @@ ElementConstants computeElementConstants(const Topology& topology,
   for (std::size_t t = 0; t < tetCount; ++t)
   {
     const double v0 = c.restVolume[t];
-    const double kV = physical ? perVolume.volumePerVolume * v0 : material.raw.volumeStiffness;
+    const double kV = perCell ? tetPerVolume[t].volumePerVolume * v0
+      : physical              ? perVolume.volumePerVolume * v0
+                              : material.raw.volumeStiffness;
     const double kVd = physical ? beta * kV : material.raw.volumeDamping;
     c.volumeStiffness[t] = kV / (v0 * v0);
     c.volumeDamping[t] = kVd / (v0 * v0);

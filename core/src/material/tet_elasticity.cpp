@@ -11,7 +11,7 @@ TetElasticConstants computeTetElasticConstants(const Topology& topology,
   const std::vector<Vec3>& restPositions, const MaterialSettings& material,
   std::vector<std::string>& warnings)
 {
-  validateMaterial(material, warnings);
+  validateMaterial(material, warnings, topology.tets.size());
   if (!isContinuum(material.model))
   {
     throw InvalidInputError(std::string("computeTetElasticConstants: ") +
@@ -22,15 +22,15 @@ TetElasticConstants computeTetElasticConstants(const Topology& topology,
   c.model = material.model;
   c.shapeGradients.resize(tetCount);
   c.restVolume.resize(tetCount);
-  const LameParameters linear =
-    lameFromYoung(material.physical.youngsModulus, material.physical.poissonRatio);
-  const LameParameters law = withElasticLaw(
-    material.model, [&](auto lawType) { return decltype(lawType)::fromLinear(linear); });
-  c.linear.assign(tetCount, linear);
-  c.law.assign(tetCount, law);
+  c.linear.resize(tetCount);
+  c.law.resize(tetCount);
   c.dampingTime.assign(tetCount, material.physical.dampingTime);
   for (std::size_t t = 0; t < tetCount; ++t)
   {
+    const PhysicalMaterial m = material.physicalOf(t);
+    c.linear[t] = lameFromYoung(m.youngsModulus, m.poissonRatio);
+    c.law[t] = withElasticLaw(
+      material.model, [&](auto lawType) { return decltype(lawType)::fromLinear(c.linear[t]); });
     const Tet& tet = topology.tets[t];
     const Vec3& x0 = restPositions[tet[0]];
     Mat3 shape;

@@ -72,6 +72,18 @@ struct RawConstants
   bool operator==(const RawConstants&) const = default;
 };
 
+/// Values per tet (in the mesh's tet order) that replace the uniform PhysicalMaterial's; each
+/// vector is empty (uniform) or has one value per tet. Two tissues in one mesh, or one value per
+/// Gmsh physical group, come in this way.
+struct CellMaterial
+{
+  std::vector<double> youngsModulus; ///< E [Pa]
+  std::vector<double> poissonRatio;  ///< nu
+  std::vector<double> density;       ///< rho [kg/m^3]
+  bool empty() const { return youngsModulus.empty() && poissonRatio.empty() && density.empty(); }
+  bool operator==(const CellMaterial&) const = default;
+};
+
 struct MaterialSettings
 {
   MaterialModel model = MaterialModel::SpringNetwork;
@@ -82,7 +94,18 @@ struct MaterialSettings
   /// Largest allowed inverse mass [1/kg]; larger ones are truncated (the point gets heavier).
   /// 0 disables truncation.
   double maxInverseMass = 0.0;
+  CellMaterial cells; ///< per-tet values (Physical mode only)
   bool operator==(const MaterialSettings&) const = default;
+
+  /// The physical material of tet t: the uniform one with its per-cell values put in.
+  PhysicalMaterial physicalOf(std::size_t t) const
+  {
+    PhysicalMaterial m = physical;
+    m.youngsModulus = cells.youngsModulus.empty() ? m.youngsModulus : cells.youngsModulus[t];
+    m.poissonRatio = cells.poissonRatio.empty() ? m.poissonRatio : cells.poissonRatio[t];
+    m.density = cells.density.empty() ? m.density : cells.density[t];
+    return m;
+  }
 };
 
 /// Per-element constants in the units the force kernels use directly.
@@ -100,9 +123,15 @@ struct ElementConstants
 };
 
 /// Throws InvalidInputError for out-of-range parameters; appends warnings (e.g. clamped nu).
-void validateMaterial(const MaterialSettings& material, std::vector<std::string>& warnings);
+/// `tetCount` checks the per-cell values' sizes (each value is checked and a refusal names the
+/// cell).
+void validateMaterial(const MaterialSettings& material, std::vector<std::string>& warnings,
+  std::size_t tetCount = 0);
 
-/// Total mass [kg] the material gives a body of the given rest volume.
+/// The mass of each tet, rho_t V_t [kg] (what distributeMass spreads over the points).
+std::vector<double> tetMasses(const MaterialSettings& material, const std::vector<double>& restVolume);
+
+/// Total mass [kg] the material gives a body of the given rest volume (uniform density).
 double totalMassOf(const MaterialSettings& material, double restVolume);
 
 ElementConstants computeElementConstants(const Topology& topology,

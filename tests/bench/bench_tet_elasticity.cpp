@@ -1,0 +1,197 @@
+// The continuum models' element passes against the spring network's, per tet, on the same
+// meshes and in the same run:
+//   - forces: the explicit integrators' force pass (computeInternalForces for the network,
+//     computeTetElasticForces for Corotated and Stable Neo-Hookean);
+//   - Newton: one evaluation of the incremental potential plus the assembly of its
+//     PSD-projected Hessian (what Implicit Euler does per Newton iteration);
+//   - the bandwidth bound of the continuum force pass: the bytes it must move per tet (points
+//     read, shape gradients and constants read, corner forces written and gathered) over the
+//     triad bandwidth measured here (memory_bandwidth.h), as a time per tet.
+// Then Implicit Euler with Stable Neo-Hookean dropping the body onto the floor at 1/60 s steps:
+// wall time per simulated second, Newton iterations per step (full run: the ~180k-tet TetGen
+// ellipsoid; smoke: a small box). Results also go to CSV.
+//
+// Usage: bench_tet_elasticity [--smoke] [--data <shared data dir>] [--csv <file>] [--mesh <spec>]
+#include "bench_meshes.h"
+#include "bench_options.h"
+#include "memory_bandwidth.h"
+
+#include "softbody/massspring/mass_spring_forces.h"
+#include "softbody/massspring/mass_spring_simulation.h"
+#include "softbody/massspring/model_potential_factory.h"
+#include "softbody/material/mass.h"
+#include "softbody/material/tet_elastic_forces.h"
+#include "softbody/mesh/mesh_generators.h"
+#include "softbody/mesh/topology.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+using namespace softbody;
+
+namespace
+{
+
+double secondsSince(std::chrono::steady_clock::time_point start)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Best of `repeat` timings of `pass` [s].
+template <class Pass>
+double bestOf(int repeat, Pass&& pass)
+{
+  double best = 1e300;
+  for (int k = 0; k < repeat; ++k)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    pass();
+    best = std::min(best, secondsSince(start));
+  }
+  return best;
+}
+
+struct Row
+{
+  std::string mesh, model;
+  std::size_t tets = 0;
+  double forceNs = 0.0, newtonNs = 0.0;
+};
+
+MaterialSettings materialOf(MaterialModel model)
+{
+  MaterialSettings material;
+  material.model = model;
+  return material;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  const bench::Options options =
+    bench::parseOptions(argc, argv, "bench_tet_elasticity", "bench_tet_elasticity.csv");
+  const double bandwidth = bench::measureTriadBandwidth(std::size_t(1) << 24, options.smoke ? 2 : 5);
+  std::printf("triad bandwidth %.2f GB/s\n", bandwidth * 1e-9);
+  std::vector<Row> rows;
+  std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
+  std::printf("%-22s %8s  %-18s %10s %8s %12s %8s\n", "mesh", "tets", "model", "force ns/t",
+    "x net", "Newton ns/t", "x net");
+  for (bench::NamedMesh& named : meshes)
+  {
+    std::vector<std::string> warnings;
+    TetMesh mesh = prepareTetMesh(named.mesh, InvertedTetPolicy::Reorient, warnings);
+    const Topology topology = buildTopology(mesh.points.size(), mesh.tets);
+    const std::size_t tets = topology.tets.size();
+    const int repeat = options.smoke ? 2 : 5;
+    const std::vector<Vec3> x = mesh.points;
+    const std::vector<Vec3> v(x.size(), Vec3(0.01, 0.0, -0.02));
+    std::vector<Vec3> out, gradient;
+    double networkForce = 0.0, networkNewton = 0.0;
+    for (MaterialModel model :
+      { MaterialModel::SpringNetwork, MaterialModel::Corotated, MaterialModel::StableNeoHookean })
+    {
+      const MaterialSettings material = materialOf(model);
+      const ElementConstants network = computeElementConstants(topology, mesh.points, material, warnings);
+      TetElasticConstants continuum;
+      if (isContinuum(model))
+      {
+        continuum = computeTetElasticConstants(topology, mesh.points, material, warnings);
+      }
+      double volume = 0.0;
+      for (double v0 : network.restVolume)
+      {
+        volume += v0;
+      }
+      const PointMasses masses = distributeMass(topology, network.restVolume,
+        totalMassOf(material, volume), material.massDistribution, 0.0, {});
+      ForceScratch networkScratch;
+      TetElasticScratch tetScratch;
+      const double force = bestOf(repeat, [&] {
+        if (isContinuum(model))
+        {
+          computeTetElasticForces(topology, continuum, x, v, tetScratch, out);
+        }
+        else
+        {
+          computeInternalForces(topology, network, x, v, networkScratch, out);
+        }
+      });
+      auto potential = makeIncrementalPotential(topology,
+        BodyElements{ model, &network, isContinuum(model) ? &continuum : nullptr }, masses,
+        Vec3(0, 0, -9.81));
+      BlockSparseMatrix hessian(topology);
+      potential->beginStep(x, v, 1.0 / 60);
+      const double newton = bestOf(repeat, [&] {
+        potential->evaluate(x, gradient);
+        potential->assembleHessian(x, hessian);
+      });
+      const double perTet = 1e9 / static_cast<double>(tets);
+      Row row{ named.name, materialModelName(model), tets, force * perTet, newton * perTet };
+      if (!isContinuum(model))
+      {
+        networkForce = row.forceNs;
+        networkNewton = row.newtonNs;
+      }
+      std::printf("%-22s %8zu  %-18s %10.1f %8.2f %12.1f %8.2f\n", row.mesh.c_str(), tets,
+        row.model.c_str(), row.forceNs, row.forceNs / networkForce, row.newtonNs,
+        row.newtonNs / networkNewton);
+      rows.push_back(row);
+    }
+    // Per tet: 4 points (24 B each) and its shape gradients (96 B) and constants (5 doubles)
+    // read, 4 corner forces (96 B) written and read again by the gather, and per point one force
+    // written (about a fifth of a point per tet on a tet mesh).
+    const double bytes = 4 * 24 + 96 + 40 + 2 * 96 + 0.2 * 24;
+    std::printf("%-22s %8zu  %-18s %10.1f   (bandwidth bound of the continuum force pass)\n",
+      named.name.c_str(), tets, "bound", 1e9 * bytes / bandwidth);
+  }
+
+  // Implicit Euler with Stable Neo-Hookean: a body dropped a centimetre onto the floor.
+  const bench::NamedMesh landing = options.smoke
+    ? bench::NamedMesh{ "box_1536", makeTetBox(8, 8, 4, 0.02) }
+    : bench::meshFromSpec(options.mesh.empty() ? "ellipsoid180k" : options.mesh, options.dataDir);
+  BodyDescription body;
+  body.mesh = landing.mesh;
+  body.material.model = MaterialModel::StableNeoHookean;
+  body.material.massDistribution = MassDistribution::LumpedVolume;
+  double lowest = 1e300;
+  for (const Vec3& p : body.mesh.points)
+  {
+    lowest = std::min(lowest, p.z());
+  }
+  SceneSettings scene;
+  scene.integrator = Integrator::ImplicitEuler;
+  scene.timeStep = 1.0 / 60;
+  scene.floorEnabled = true;
+  scene.floor.origin = Vec3(0, 0, lowest - 0.01);
+  MassSpringSimulation sim(body, scene);
+  const double simulated = options.smoke ? 0.1 : 0.5;
+  const auto start = std::chrono::steady_clock::now();
+  sim.advance(simulated);
+  const double wall = secondsSince(start);
+  const ImplicitConvergence& c = *sim.implicitConvergence();
+  std::vector<double> ratios = sim.tetVolumeRatios();
+  const auto inverted = std::count_if(ratios.begin(), ratios.end(), [](double r) { return r <= 0.0; });
+  std::printf("Implicit Euler, Stable Neo-Hookean, %s (%zu tets) at 1/60 s: %.2f s per simulated "
+              "second, %.1f Newton iterations per step, %.0f CG iterations per Newton iteration, "
+              "%llu unconverged steps, %td inverted tets\n",
+    landing.name.c_str(), landing.mesh.tets.size(), wall / simulated,
+    double(c.iterationsTotal) / double(c.steps),
+    double(c.linearIterationsTotal) / std::max(1.0, double(c.iterationsTotal)), c.unconvergedSteps,
+    inverted);
+
+  std::ofstream csv(options.csv);
+  csv << "mesh,tets,model,force_ns_per_tet,newton_ns_per_tet\n";
+  for (const Row& row : rows)
+  {
+    csv << row.mesh << ',' << row.tets << ',' << row.model << ',' << row.forceNs << ','
+        << row.newtonNs << '\n';
+  }
+  csv << "# bandwidth_GBps," << bandwidth * 1e-9 << "\n";
+  csv << "# implicit_snh," << landing.name << ',' << landing.mesh.tets.size() << ','
+      << wall / simulated << ',' << double(c.iterationsTotal) / double(c.steps) << '\n';
+  return 0;
+}
