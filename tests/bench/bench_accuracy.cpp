@@ -521,6 +521,50 @@ double staticAnswer(const LabScene& s, const std::function<double(const Simulati
   return value;
 }
 
+/// A material model's static answer on a scene against elasticity's (the models table).
+struct ModelAnswer
+{
+  std::string scene, model;
+  std::size_t tets = 0;
+  double answer = 0.0, analytic = 0.0;
+};
+std::vector<ModelAnswer> gModelAnswers;
+
+/// Records the network's static answer and each continuum model's (the Static integrator, with
+/// the finite-element mass lumping) on the scene's mesh.
+void recordModelAnswers(const LabScene& s, double network, double analytic,
+  const std::function<double(const Simulation&)>& quantity)
+{
+  const std::size_t tets = s.body.mesh.tets.size();
+  gModelAnswers.push_back({ s.name, materialModelName(MaterialModel::SpringNetwork), tets, network, analytic });
+  for (MaterialModel model : { MaterialModel::Corotated, MaterialModel::StableNeoHookean })
+  {
+    BodyDescription body = s.body;
+    body.material.model = model;
+    body.material.massDistribution = MassDistribution::LumpedVolume;
+    SceneSettings scene = s.scene;
+    scene.integrator = Integrator::Static;
+    scene.implicit.tolerance = 1e-10;
+    MassSpringSimulation sim(body, scene);
+    sim.advance(0.1);
+    gModelAnswers.push_back({ s.name, materialModelName(model), tets, quantity(sim), analytic });
+  }
+}
+
+std::string modelTable()
+{
+  std::string table = "| scene | tets | material model | static answer [m] | elasticity [m] | model error |\n"
+                      "|---|---|---|---|---|---|\n";
+  for (const ModelAnswer& a : gModelAnswers)
+  {
+    char line[256];
+    std::snprintf(line, sizeof line, "| %s | %zu | %s | %.4e | %.4e | %+.1f%% |\n", a.scene.c_str(),
+      a.tets, a.model.c_str(), a.answer, a.analytic, 100 * (a.answer - a.analytic) / a.analytic);
+    table += line;
+  }
+  return table;
+}
+
 /// The converged dynamic reference: Midpoint at 1/16 and 1/32 of its automatic step; prints
 /// how far apart they are and returns the finer one.
 double convergedReference(const LabScene& s, const std::function<double(const Simulation&)>& quantity, double scale)
@@ -599,6 +643,7 @@ ElasticScene barScene()
   const double analytic = rho * kG * length * length / (2 * E);
   auto elongation = [bottom](const Simulation& sim) { return -meanDisplacement(sim, bottom, 2); };
   const double network = staticAnswer(s, elongation);
+  recordModelAnswers(s, network, analytic, elongation);
   char line[512];
   std::snprintf(line, sizeof line,
     "bar: elasticity rho g L^2/(2E) = %.4e m; the network's static answer (backward Euler to rest) "
@@ -633,6 +678,7 @@ ElasticScene cantileverScene()
   const double analytic = bending + shear;
   auto sag = [tip](const Simulation& sim) { return -meanDisplacement(sim, tip, 2); };
   const double network = staticAnswer(s, sag);
+  recordModelAnswers(s, network, analytic, sag);
   const double period = 2 * M_PI * L * L / (1.875 * 1.875) * std::sqrt(rho * A / (E * I));
   // The first bending period of the network, measured: released from its rest shape, the beam
   // swings about its static sag; at the automatic step and at half of it (converged in the step).
@@ -1516,6 +1562,13 @@ int main(int argc, char** argv)
       substeps.c_str());
     summary << "\n## Fastest run per error target\n\n" << fastest << "\n## Substeps against iterations\n\n"
             << substeps;
+  }
+  if (!gModelAnswers.empty())
+  {
+    const std::string table = modelTable();
+    std::printf("\nMaterial models against elasticity:\n%s", table.c_str());
+    std::ofstream(out + "/models.md") << table;
+    summary << "\n## Material models against elasticity\n\n" << table;
   }
   if (wanted("frequency"))
   {

@@ -4,6 +4,7 @@
 // linear elasticity of the typed E and nu (Stable Neo-Hookean through its re-parameterization),
 // flat and inverted tets are finite and pushed back, and the family's corner gradients and
 // Hessian blocks are the derivatives of its element energy, damping included.
+#include "softbody/material/tet_elastic_forces.h"
 #include "softbody/material/tet_elasticity.h"
 
 #include "softbody/mesh/mesh_generators.h"
@@ -294,4 +295,52 @@ TEST(TetElasticFamily, StiffnessBoundCoversTheRestHessiansRows)
     EXPECT_LE(row, family.stiffnessBound(0, a, tet.rest) * (1 + 1e-12));
     EXPECT_GT(row, 0.2 * family.stiffnessBound(0, a, tet.rest)) << "a bound this loose costs steps";
   }
+}
+
+TEST(IsotropicLaws, StableNeoHookeansClosedFormInFIsItsSingularValueForm)
+{
+  const LameParameters p = StableNeoHookeanLaw::fromLinear(kLinear);
+  for (unsigned seed = 1; seed <= 4; ++seed)
+  {
+    for (const Mat3& f : { randomDeformation(seed, 0.5), invertedDeformation(seed) })
+    {
+      Mat3 stress;
+      const double energy = StableNeoHookeanLaw::energyAndStressOf(f, p, stress);
+      EXPECT_NEAR(energy, energyOf<StableNeoHookeanLaw>(f, p), 1e-12 * kLinear.mu);
+      EXPECT_LT((stress - stressOf<StableNeoHookeanLaw>(f, p)).norm(), 1e-10 * kLinear.mu);
+    }
+  }
+}
+
+TEST(TetElasticFamily, ViscosityLeavesARigidRotationUndamped)
+{
+  // A turned body spinning rigidly feels no viscous force; the same speeds stretching it do.
+  const TetMesh box = makeTetBox(2, 2, 2, 0.05);
+  const Topology topology = buildTopology(box.points.size(), box.tets);
+  MaterialSettings material;
+  material.model = MaterialModel::Corotated;
+  material.physical.dampingTime = 0.05;
+  std::vector<std::string> warnings;
+  const TetElasticConstants constants = computeTetElasticConstants(topology, box.points, material, warnings);
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  const Vec3 spin(0.3, -1.1, 0.4);
+  std::vector<Vec3> x, rigid, stretching;
+  for (const Vec3& p : box.points)
+  {
+    x.push_back(turn * p);
+    rigid.push_back(spin.cross(turn * p));
+    stretching.push_back(Vec3(spin.norm() * (turn * p).x(), 0, 0));
+  }
+  TetElasticScratch scratch;
+  std::vector<Vec3> spun, stretched;
+  computeTetElasticForces(topology, constants, x, rigid, scratch, spun);
+  computeTetElasticForces(topology, constants, x, stretching, scratch, stretched);
+  double spunMax = 0.0, stretchedMax = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+  {
+    spunMax = std::max(spunMax, spun[i].norm());
+    stretchedMax = std::max(stretchedMax, stretched[i].norm());
+  }
+  EXPECT_GT(stretchedMax, 0.0);
+  EXPECT_LT(spunMax, 1e-9 * stretchedMax);
 }

@@ -23,13 +23,13 @@ void cornerForces(const Topology& topology, const TetElasticConstants& c,
 {
   scratch.cornerForces.resize(topology.tets.size());
   parallelFor(topology.tets.size(), kTetGrain, [&](std::size_t t) {
-    const RotationVariantSvd svd = rotationVariantSvd(deformationGradient(topology, c, t, x));
-    Mat3 stress = firstPiolaStress<Law>(svd, c.law[t]);
+    const Mat3 f = deformationGradient(topology, c, t, x);
+    Mat3 stress;
+    energyAndStress<Law>(f, c.law[t], stress);
     if (c.damped && c.dampingTime[t] > 0.0)
     {
-      // The rate of F from the velocities, in the element's current frame.
-      stress += viscousStress(svd.u * svd.v.transpose(), deformationGradient(topology, c, t, v),
-        c.linear[t], c.dampingTime[t]);
+      // The rate of F from the velocities, seen from the current F (the Green strain rate).
+      stress += viscousStress(f, deformationGradient(topology, c, t, v), c.linear[t], c.dampingTime[t]);
     }
     for (std::size_t k = 0; k < 4; ++k)
     {
@@ -62,9 +62,9 @@ double tetElasticEnergy(const Topology& topology, const TetElasticConstants& con
   return withElasticLaw(constants.model, [&](auto law) {
     using Law = decltype(law);
     return parallelSum(topology.tets.size(), [&](std::size_t t) {
-      const RotationVariantSvd svd =
-        rotationVariantSvd(deformationGradient(topology, constants, t, x));
-      return constants.restVolume[t] * Law::energy(svd.s, constants.law[t]);
+      Mat3 stress;
+      return constants.restVolume[t] *
+        energyAndStress<Law>(deformationGradient(topology, constants, t, x), constants.law[t], stress);
     });
   });
 }
@@ -82,9 +82,9 @@ TetStressField tetStressField(const Topology& topology, const TetElasticConstant
     using Law = decltype(law);
     parallelFor(n, kTetGrain, [&](std::size_t t) {
       const Mat3 f = deformationGradient(topology, constants, t, x);
-      const RotationVariantSvd svd = rotationVariantSvd(f);
+      Mat3 stress;
       field.greenStrain[t] = symmetricOf(0.5 * (f.transpose() * f - Mat3::Identity()));
-      field.energyDensity[t] = Law::energy(svd.s, constants.law[t]);
+      field.energyDensity[t] = energyAndStress<Law>(f, constants.law[t], stress);
       const double j = f.determinant();
       if (!(j > 0.0))
       {
@@ -93,7 +93,7 @@ TetStressField tetStressField(const Topology& topology, const TetElasticConstant
         field.vonMises[t] = std::numeric_limits<double>::quiet_NaN();
         return;
       }
-      const Mat3 sigma = firstPiolaStress<Law>(svd, constants.law[t]) * f.transpose() / j;
+      const Mat3 sigma = stress * f.transpose() / j;
       const Mat3 symmetric = 0.5 * (sigma + sigma.transpose());
       field.cauchyStress[t] = symmetricOf(symmetric);
       const Mat3 deviator = symmetric - symmetric.trace() / 3.0 * Mat3::Identity();

@@ -155,6 +155,21 @@ struct StableNeoHookeanLaw
     const Vec3 others(s(1) * s(2), s(0) * s(2), s(0) * s(1));
     return p.mu * (1.0 - 1.0 / (ic + 1.0)) * s + p.lambda * (j - alpha(p)) * others;
   }
+  /// Psi and P = mu (1 - 1 / (I_C + 1)) F + lambda (J - alpha) cof(F) straight from F.
+  static double energyAndStressOf(const Mat3& f, const LameParameters& p, Mat3& stress)
+  {
+    const double ic = f.squaredNorm();
+    Mat3 cofactor; // J F^-T, column by column
+    cofactor.col(0) = f.col(1).cross(f.col(2));
+    cofactor.col(1) = f.col(2).cross(f.col(0));
+    cofactor.col(2) = f.col(0).cross(f.col(1));
+    const double j = f.col(0).dot(cofactor.col(0));
+    const double a = alpha(p);
+    stress = p.mu * (1.0 - 1.0 / (ic + 1.0)) * f + p.lambda * (j - a) * cofactor;
+    const double rest = 0.5 * p.lambda * (1.0 - a) * (1.0 - a) - 0.5 * p.mu * std::log(4.0);
+    return 0.5 * p.mu * (ic - 3.0) + 0.5 * p.lambda * (j - a) * (j - a) -
+      0.5 * p.mu * std::log(ic + 1.0) - rest;
+  }
   static Mat3 hessian(const Vec3& s, const LameParameters& p)
   {
     const double ic = s.squaredNorm();
@@ -250,24 +265,42 @@ Mat9 stressDerivative(const RotationVariantSvd& svd, const LameParameters& p, bo
   return dpdf;
 }
 
-/// The linear elasticity tensor C : dF = 2 mu sym(R^T dF) + lambda tr(R^T dF) rotated by R,
-/// as the 9x9 Hessian of the viscous damping potential (tet_elasticity.h) [Pa].
-inline Mat9 rotatedLinearTensor(const Mat3& rotation, const LameParameters& p)
+/// The Hessian of the viscous potential of tet_elasticity.h, dF -> C : sym(G^T dF) seen from
+/// the frame G (the step's F0): the 9x9 matrix of 2 mu sym(G^T dF) : sym(G^T dF') +
+/// lambda tr(G^T dF) tr(G^T dF'), positive semi-definite for any G [Pa].
+inline Mat9 viscousTensor(const Mat3& frame, const LameParameters& p)
 {
   Mat9 c;
-  Eigen::Matrix<double, 9, 9> sym; // columns: vec(sym(R^T E_m)) for unit matrices E_m
+  Eigen::Matrix<double, 9, 9> sym; // columns: vec(sym(G^T E_m)) for unit matrices E_m
   Vec9 trace;
   for (int m = 0; m < 9; ++m)
   {
     Mat3 e = Mat3::Zero();
     e(m / 3, m % 3) = 1.0;
-    const Mat3 local = rotation.transpose() * e;
+    const Mat3 local = frame.transpose() * e;
     sym.col(m) = flatten(0.5 * (local + local.transpose()));
     trace(m) = local.trace();
   }
   c.noalias() = 2.0 * p.mu * sym.transpose() * sym;
   c.noalias() += p.lambda * trace * trace.transpose();
   return c;
+}
+
+/// Psi(F) [Pa] and, in `stress`, P(F): from the law's closed form in F where it has one (no
+/// SVD: Stable Neo-Hookean is polynomial in F but for its log term), else from the SVD.
+template <IsotropicLaw Law>
+double energyAndStress(const Mat3& f, const LameParameters& p, Mat3& stress)
+{
+  if constexpr (requires { Law::energyAndStressOf(f, p, stress); })
+  {
+    return Law::energyAndStressOf(f, p, stress);
+  }
+  else
+  {
+    const RotationVariantSvd svd = rotationVariantSvd(f);
+    stress = firstPiolaStress<Law>(svd, p);
+    return Law::energy(svd.s, p);
+  }
 }
 
 } // namespace softbody

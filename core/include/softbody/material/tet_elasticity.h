@@ -4,15 +4,15 @@
 // elastic energy V0 Psi(F), corner forces -V0 P(F) g_c, and a Hessian block for corners a, b of
 //   H_ab[alpha][beta] = V0 sum_jl dP/dF(3 alpha + j, 3 beta + l) g_a[j] g_b[l].
 //
-// Damping is Kelvin-Voigt viscosity with the material's damping time beta: the viscous stress
-// beta C : D, C the linear elasticity tensor of the typed E and nu and D the strain rate in the
-// element's rotated frame, sym(R^T dF/dt). For small motions about rest it is the
-// stiffness-proportional Rayleigh damping beta K v the spring network has, and, measured in the
-// rotated frame, it leaves rigid rotations undamped. In the incremental potential (as in
-// spring_network.h) the frame R0 is the one at the step's start and dF/dt = (F - F0) / h, so
-// the damping term is the quadratic
-//   V0 h / 2 beta (2 mu |D|^2 + lambda tr(D)^2),   D = sym(R0^T (F - F0)) / h,
-// with its exact (constant, positive semi-definite) Hessian (beta / h) C rotated by R0.
+// Damping is Kelvin-Voigt viscosity with the material's damping time beta: the second
+// Piola-Kirchhoff viscous stress beta C : D, C the linear elasticity tensor of the typed E and
+// nu and D the Green strain rate sym(F^T dF/dt), so P_visc = F beta C : D. For small motions
+// about rest it is the stiffness-proportional Rayleigh damping beta K v the spring network has,
+// and it leaves rigid rotations undamped (F^T dF/dt is skew for them). It needs no polar
+// decomposition. In the incremental potential (as in spring_network.h) the frame is F0, the
+// one at the step's start, and dF/dt = (F - F0) / h, so the damping term is the quadratic
+//   V0 h / 2 beta (2 mu |D|^2 + lambda tr(D)^2),   D = sym(F0^T (F - F0)) / h,
+// with its exact (constant, positive semi-definite) Hessian (beta / h) C seen from F0.
 // The elastic Hessian is projected exactly from its closed-form eigensystem.
 #pragma once
 
@@ -62,13 +62,14 @@ inline Mat3 deformationGradient(const Topology& topology, const TetElasticConsta
   return f;
 }
 
-/// The viscous stress beta R (2 mu D + lambda tr(D) I), D = sym(R^T rate) [Pa].
-inline Mat3 viscousStress(const Mat3& rotation, const Mat3& rate, const LameParameters& p,
+/// The viscous stress beta G (2 mu D + lambda tr(D) I), D = sym(G^T rate), seen from the frame
+/// G (the current F for the explicit integrators, F0 in the incremental potential) [Pa].
+inline Mat3 viscousStress(const Mat3& frame, const Mat3& rate, const LameParameters& p,
   double beta)
 {
-  const Mat3 local = rotation.transpose() * rate;
+  const Mat3 local = frame.transpose() * rate;
   const Mat3 d = 0.5 * (local + local.transpose());
-  return beta * rotation * (2.0 * p.mu * d + p.lambda * d.trace() * Mat3::Identity());
+  return beta * frame * (2.0 * p.mu * d + p.lambda * d.trace() * Mat3::Identity());
 }
 
 /// The tets of a continuum body under `Law` as an element family (element_model.h).
@@ -79,8 +80,7 @@ public:
   static constexpr int kCorners = 4;
   struct StepData
   {
-    Mat3 f0;       ///< F at the step's start
-    Mat3 rotation; ///< its nearest rotation R0
+    Mat3 f0; ///< F at the step's start: the viscous frame
   };
   struct AtX
   {
@@ -109,9 +109,7 @@ public:
 
   StepData stepData(std::size_t t, const std::vector<Vec3>& x0) const
   {
-    const Mat3 f0 = deformationGradient(*Topo, *Constants, t, x0);
-    const RotationVariantSvd svd = rotationVariantSvd(f0);
-    return { f0, svd.u * svd.v.transpose() };
+    return { deformationGradient(*Topo, *Constants, t, x0) };
   }
 
   double evaluate(std::size_t t, const std::vector<Vec3>& x, const StepStart& start,
@@ -119,16 +117,15 @@ public:
   {
     const TetElasticConstants& c = *Constants;
     const Mat3 f = deformationGradient(*Topo, c, t, x);
-    const RotationVariantSvd svd = rotationVariantSvd(f);
-    Mat3 stress = firstPiolaStress<Law>(svd, c.law[t]);
-    double energy = Law::energy(svd.s, c.law[t]);
+    Mat3 stress;
+    double energy = energyAndStress<Law>(f, c.law[t], stress);
     if (c.damped && c.dampingTime[t] > 0.0)
     {
       const Mat3 rate = (f - step.f0) / start.h;
-      const Mat3 viscous = viscousStress(step.rotation, rate, c.linear[t], c.dampingTime[t]);
+      const Mat3 viscous = viscousStress(step.f0, rate, c.linear[t], c.dampingTime[t]);
       stress += viscous;
-      // h / 2 beta (2 mu |D|^2 + lambda tr(D)^2) = h / 2 (viscous : R0 D) = h / 2 viscous : rate
-      // for symmetric D (the stress is R0 times a symmetric tensor).
+      // h / 2 beta (2 mu |D|^2 + lambda tr(D)^2) = h / 2 viscous : rate: the viscous stress is
+      // F0 times a symmetric tensor T, and T : sym(F0^T rate) = (F0 T) : rate.
       energy += 0.5 * start.h * (viscous.cwiseProduct(rate)).sum();
     }
     const double v0 = c.restVolume[t];
@@ -152,7 +149,7 @@ public:
     Mat9 dpdf = stressDerivative<Law>(svd, c.law[t], true);
     if (c.damped && c.dampingTime[t] > 0.0)
     {
-      dpdf += (c.dampingTime[t] / start.h) * rotatedLinearTensor(step.rotation, c.linear[t]);
+      dpdf += (c.dampingTime[t] / start.h) * viscousTensor(step.f0, c.linear[t]);
     }
     return blocksOf(dpdf, c.shapeGradients[t], c.restVolume[t]);
   }
