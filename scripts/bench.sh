@@ -12,7 +12,8 @@
 #   scripts/bench.sh --no-plots ...     CSVs and tables only
 #
 # A complete run (no scene named, not --quick, default output folder) then writes its tables
-# into docs/accuracy.md (scripts/update_docs_tables.py) and copies its plots to docs/bench/.
+# into docs/accuracy.md (scripts/update_docs_tables.py) and copies its plots to docs/bench/, and
+# runs bench_tet_elasticity, whose table goes into docs/performance.md.
 #
 # SOFTBODY_BENCH_OUT overrides output/bench; SOFTBODY_DATA_DIR the public meshes (../shared/data).
 set -euo pipefail
@@ -66,6 +67,11 @@ done
 if [[ ${status} -eq 0 && ${quick} -eq 0 && ${scenes_given} -eq 0 && -z "${SOFTBODY_BENCH_OUT:-}" ]]; then
   "${python:-python3}" "${SOFTBODY_ROOT}/scripts/update_docs_tables.py" "${out}" \
     "${SOFTBODY_ROOT}/docs/accuracy.md" || status=$?
+  # The finite-element materials' cost per tet, into docs/performance.md.
+  "${SOFTBODY_BUILD_DIR}/bin/bench_tet_elasticity" --data "${data}" --csv "${out}/tet_elasticity.csv" \
+    | tee "${out}/bench_tet_elasticity.log" || status=$?
+  "${python:-python3}" "${SOFTBODY_ROOT}/scripts/update_docs_tables.py" "${out}" \
+    "${SOFTBODY_ROOT}/docs/performance.md" || status=$?
   for plot in bar spot jelly incline_stick; do
     [[ -f "${out}/${plot}.png" ]] && cp "${out}/${plot}.png" "${SOFTBODY_ROOT}/docs/bench/${plot}.png"
   done

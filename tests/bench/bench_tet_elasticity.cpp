@@ -54,6 +54,11 @@ double bestOf(int repeat, Pass&& pass)
   return best;
 }
 
+/// Bytes the continuum force pass must move per tet: 4 points (24 B each) and its shape
+/// gradients (96 B) and constants (5 doubles) read, 4 corner forces (96 B) written and read again
+/// by the gather, and per point one force written (about a fifth of a point per tet).
+constexpr double kBytesPerTet = 4 * 24 + 96 + 40 + 2 * 96 + 0.2 * 24;
+
 struct Row
 {
   std::string mesh, model;
@@ -141,10 +146,7 @@ int main(int argc, char** argv)
         row.newtonNs / networkNewton);
       rows.push_back(row);
     }
-    // Per tet: 4 points (24 B each) and its shape gradients (96 B) and constants (5 doubles)
-    // read, 4 corner forces (96 B) written and read again by the gather, and per point one force
-    // written (about a fifth of a point per tet on a tet mesh).
-    const double bytes = 4 * 24 + 96 + 40 + 2 * 96 + 0.2 * 24;
+    const double bytes = kBytesPerTet;
     std::printf("%-22s %8zu  %-18s %10.1f   (bandwidth bound of the continuum force pass)\n",
       named.name.c_str(), tets, "bound", 1e9 * bytes / bandwidth);
   }
@@ -193,5 +195,31 @@ int main(int argc, char** argv)
   csv << "# bandwidth_GBps," << bandwidth * 1e-9 << "\n";
   csv << "# implicit_snh," << landing.name << ',' << landing.mesh.tets.size() << ','
       << wall / simulated << ',' << double(c.iterationsTotal) / double(c.steps) << '\n';
+
+  // The same as a table for docs/performance.md (scripts/update_docs_tables.py), beside the CSV.
+  std::string md = options.csv;
+  md = (md.size() > 4 && md.compare(md.size() - 4, 4, ".csv") == 0 ? md.substr(0, md.size() - 4) : md) + ".md";
+  std::ofstream table(md);
+  table << "| mesh | tets | material model | forces [ns/tet] | x network | Newton pass [ns/tet] | x network |\n"
+           "|---|---|---|---|---|---|---|\n";
+  double forceBase = 1.0, newtonBase = 1.0;
+  char line[256];
+  for (const Row& row : rows)
+  {
+    if (row.model == materialModelName(MaterialModel::SpringNetwork))
+    {
+      forceBase = row.forceNs;
+      newtonBase = row.newtonNs;
+    }
+    std::snprintf(line, sizeof line, "| %s | %zu | %s | %.1f | %.2f | %.1f | %.2f |\n", row.mesh.c_str(),
+      row.tets, row.model.c_str(), row.forceNs, row.forceNs / forceBase, row.newtonNs, row.newtonNs / newtonBase);
+    table << line;
+  }
+  std::snprintf(line, sizeof line, "\nBandwidth bound of the continuum force pass: %.1f ns/tet at the "
+    "measured triad bandwidth of %.2f GB/s. Implicit Euler with Stable Neo-Hookean, %s (%zu tets) "
+    "dropped 1 cm onto the floor at 1/60 s: %.2f s per simulated second, %.1f Newton iterations per step.\n",
+    1e9 * kBytesPerTet / bandwidth, bandwidth * 1e-9, landing.name.c_str(),
+    landing.mesh.tets.size(), wall / simulated, double(c.iterationsTotal) / double(c.steps));
+  table << line;
   return 0;
 }
