@@ -119,7 +119,7 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
     // The continuum models' XPBD constraints are not built yet: refuse rather than run links.
     throw softbody::InvalidInputError("MaterialModel " + std::to_string(p.MaterialModel) + " (" +
       softbody::materialModelName(vtkSoftBodySettings::Material(p).model) +
-      ") runs under Method Mass-Spring (Implicit Euler, Static or an explicit integrator); PBD "
+      ") runs under Method Mass-Spring (with any of its integrators); PBD "
       "and XPBD have their own constraints (XPBDMaterial). Set Method to Mass-Spring, or "
       "MaterialModel to Spring Network.");
   }

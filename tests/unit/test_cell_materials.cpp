@@ -33,11 +33,7 @@ struct HangingBar
     body.material.physical.poissonRatio = 0.0;
     body.material.physical.density = kRho;
     body.material.massDistribution = MassDistribution::LumpedVolume;
-    body.pinned.assign(body.mesh.points.size(), 0);
-    for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
-    {
-      body.pinned[i] = body.mesh.points[i].z() > kLength - 1e-9 ? 1 : 0;
-    }
+    body.pinned = test::pointsWhere(body.mesh.points, [](const Vec3& p) { return p.z() > kLength - 1e-9; });
     scene.integrator = Integrator::Static;
     scene.collisions.mode = CollisionMode::Off;
     scene.implicit.tolerance = 1e-10;
@@ -53,17 +49,7 @@ struct HangingBar
   }
   double elongation(const Simulation& sim) const
   {
-    double drop = 0.0;
-    int count = 0;
-    for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
-    {
-      if (body.mesh.points[i].z() < 1e-9)
-      {
-        drop += body.mesh.points[i].z() - sim.positions()[i].z();
-        ++count;
-      }
-    }
-    return drop / count;
+    return test::meanDrop(body.mesh.points, sim.positions(), [](const Vec3& p) { return p.z() < 1e-9; });
   }
 };
 

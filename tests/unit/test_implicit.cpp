@@ -101,7 +101,7 @@ TEST(ImplicitIntegrators, LinearSpringStepEqualsTheClosedFormBackwardEulerUpdate
       }
       else
       {
-        ProjectiveDynamicsStepper stepper(topology, constants, masses, rest, scene);
+        ProjectiveDynamicsStepper stepper(topology, BodyElements{ MaterialModel::SpringNetwork, &constants, nullptr }, masses, rest, scene);
         stepper.step(h, state, plan);
         iterations = stepper.convergence().iterations;
       }

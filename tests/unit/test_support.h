@@ -52,6 +52,36 @@ inline bool bitwiseEqual(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
 }
 
+/// Mean of rest.z - now.z over the points whose rest position passes `select` [m]: how far a
+/// face of a body (a bar's bottom, a cantilever's tip) has dropped.
+template <class Select>
+double meanDrop(const std::vector<Vec3>& rest, const std::vector<Vec3>& now, Select&& select)
+{
+  double drop = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < rest.size(); ++i)
+  {
+    if (select(rest[i]))
+    {
+      drop += rest[i].z() - now[i].z();
+      ++count;
+    }
+  }
+  return drop / count;
+}
+
+/// Flags the points whose position passes `select` (nonzero: pinned).
+template <class Select>
+std::vector<char> pointsWhere(const std::vector<Vec3>& points, Select&& select)
+{
+  std::vector<char> flags(points.size(), 0);
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    flags[i] = select(points[i]) ? 1 : 0;
+  }
+  return flags;
+}
+
 inline std::vector<Vec3> randomVectors(std::size_t count, double amplitude, unsigned seed = 11)
 {
   return jitter(std::vector<Vec3>(count, Vec3::Zero()), amplitude, seed);

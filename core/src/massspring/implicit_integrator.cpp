@@ -19,9 +19,8 @@ std::unique_ptr<ImplicitIntegrator> makeImplicitIntegrator(const SceneSettings& 
     case Integrator::ImplicitEuler:
       return std::make_unique<ImplicitEulerStepper>(topology, elements, masses, scene);
     case Integrator::ProjectiveDynamics:
-      // prepareMassSpring refuses it for the continuum models.
       return std::make_unique<ProjectiveDynamicsStepper>(
-        topology, *elements.network, masses, restPositions, scene);
+        topology, elements, masses, restPositions, scene);
     case Integrator::Static:
       return std::make_unique<StaticStepper>(topology, elements, masses, scene, positions);
     default:

@@ -107,12 +107,6 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
   s.mesh = prepareTetMesh(std::move(body.mesh), s.scene.invertedTets, s.warnings);
   s.topology = buildTopology(s.mesh.points.size(), s.mesh.tets);
   s.model = body.material.model;
-  if (isContinuum(s.model) && s.scene.integrator == Integrator::ProjectiveDynamics)
-  {
-    throw InvalidInputError(std::string("Integrator Projective Dynamics runs the Spring Network "
-      "material model only, not MaterialModel ") + materialModelName(s.model) + ". Use Implicit "
-      "Euler (Newton on the same backward-Euler step), Static, or an explicit integrator.");
-  }
   s.constants = computeElementConstants(s.topology, s.mesh.points, body.material, s.warnings);
   if (isContinuum(s.model))
   {

@@ -14,13 +14,13 @@
 namespace softbody
 {
 ProjectiveDynamicsStepper::ProjectiveDynamicsStepper(const Topology& topology,
-  const ElementConstants& constants, const PointMasses& masses,
+  const BodyElements& elements, const PointMasses& masses,
   const std::vector<Vec3>& restPositions, const SceneSettings& scene)
   : Topo(topology)
-  , Constants(constants)
+  , Constants(*elements.network)
+  , Tets(isContinuum(elements.model) ? elements.tets : nullptr)
   , InverseMass(masses.inverseMass)
-  , Potential(makeIncrementalPotential(
-      topology, BodyElements{ MaterialModel::SpringNetwork, &constants, nullptr }, masses, scene.gravity))
+  , Potential(makeIncrementalPotential(topology, elements, masses, scene.gravity))
   , Solver(*Potential, scene, ImplicitStepSolver::LineSearch::Armijo)
   , History(scene.implicit.projectiveHistory)
 {
@@ -33,7 +33,7 @@ ProjectiveDynamicsStepper::ProjectiveDynamicsStepper(const Topology& topology,
       FreeVertex.push_back(static_cast<std::int32_t>(i));
     }
   }
-  if (constants.hasVolumeTerm)
+  if (Constants.hasVolumeTerm)
   {
     TetWeight.resize(topology.tets.size());
     for (std::size_t t = 0; t < topology.tets.size(); ++t)
@@ -86,6 +86,21 @@ void ProjectiveDynamicsStepper::factor(double h)
       for (int b = 0; b < 4; ++b)
       {
         addPair(tet[a], tet[b], w * ((a == b ? 1.0 : 0.0) - 0.25));
+      }
+    }
+  }
+  for (std::size_t t = 0; Tets && t < Topo.tets.size(); ++t)
+  {
+    const LameParameters& p = Tets->linear[t];
+    const double viscosity = Tets->damped ? Tets->dampingTime[t] / h : 0.0;
+    const double w = (2.0 * p.mu + p.lambda) * Tets->restVolume[t] * (1.0 + viscosity);
+    const std::array<Vec3, 4>& g = Tets->shapeGradients[t];
+    const Tet& tet = Topo.tets[t];
+    for (int a = 0; a < 4; ++a)
+    {
+      for (int b = 0; b < 4; ++b)
+      {
+        addPair(tet[a], tet[b], w * g[static_cast<std::size_t>(a)].dot(g[static_cast<std::size_t>(b)]));
       }
     }
   }

@@ -21,6 +21,12 @@
 // stiff bodies, where plain PD stalls on the bending modes its isotropic matrix overestimates.
 // The floor is the shared active set (implicit_solve.h): held
 // points move along it by the filtered direction S A^-1 S grad Phi, still a descent direction.
+//
+// The continuum models (tet_elasticity.h) run the same way, as Liu et al. 2017 do for
+// hyperelastic materials: Phi and its gradient are the model's own, and A gains per tet the
+// Laplacian w_t (g_a . g_b) of its shape gradients with w_t = (2 mu + lambda) V0 (1 + beta / h),
+// the stiffest linear modulus (with its viscosity) along the tet's strains. A only steers the
+// iterations, so the answer is backward Euler's for the model; no local projection is needed.
 #pragma once
 
 #include "softbody/common/state.h"
@@ -38,7 +44,7 @@ namespace softbody
 class ProjectiveDynamicsStepper final : public ImplicitIntegrator
 {
 public:
-  ProjectiveDynamicsStepper(const Topology& topology, const ElementConstants& constants,
+  ProjectiveDynamicsStepper(const Topology& topology, const BodyElements& elements,
     const PointMasses& masses, const std::vector<Vec3>& restPositions,
     const SceneSettings& scene);
 
@@ -61,6 +67,7 @@ private:
 
   const Topology& Topo;
   const ElementConstants& Constants;
+  const TetElasticConstants* Tets; ///< the continuum models' (null for the network)
   const std::vector<double>& InverseMass;
   std::unique_ptr<IncrementalPotential> Potential; ///< the body's material model
   ImplicitStepSolver Solver;
