@@ -236,18 +236,15 @@ double staticDrop(const BodyDescription& body, Select&& face)
   return test::meanDrop(body.mesh.points, sim.positions(), face);
 }
 
-/// Elongation of a bar of square section w and length L hanging from its top face, from the
-/// static solve: the mean drop of the bottom face's points.
-double hangingBarElongation(MaterialModel model, double poissonRatio, int cellsAlong)
+/// Elongation of a bar of square section w = L / 10 hanging from its top face, meshed with
+/// `across` cubic cells across and 10 `across` along, from the static solve: the mean drop of
+/// the bottom face's points.
+double hangingBarElongation(MaterialModel model, double poissonRatio, int across)
 {
   const double length = 1.0, width = 0.1;
-  const int across = 2;
-  BodyDescription body = bodyOf(makeTetBox(across, across, cellsAlong, width / across), model, poissonRatio);
-  for (Vec3& p : body.mesh.points)
-  {
-    p.z() *= length / width * across / cellsAlong;
-  }
+  BodyDescription body = bodyOf(makeTetBox(across, across, 10 * across, width / across), model, poissonRatio);
   body.material.physical.youngsModulus = 1.0e7; // strain ~1e-3: the small-strain regime
+  body.material.massDistribution = MassDistribution::LumpedVolume; // the finite-element lumping
   body.pinned = test::pointsWhere(body.mesh.points, [&](const Vec3& p) { return p.z() > length - 1e-9; });
   return staticDrop(body, [](const Vec3& p) { return p.z() < 1e-9; });
 }
@@ -256,36 +253,46 @@ double hangingBarElongation(MaterialModel model, double poissonRatio, int cellsA
 
 TEST(ContinuumSolids, HangingBarMatchesUniaxialStressUnderRefinement)
 {
-  // nu = 0: uniaxial stress holds exactly and the continuum elongation is rho g L^2 / (2 E);
-  // what is left at the finest mesh is geometric nonlinearity (strain ~1e-3). At nu > 0 the
-  // clamped top face stops the lateral contraction there: the discrete error then falls at
-  // first order (the clamped edges are singular), and the Richardson limit of the three meshes
-  // differs from the uniaxial value by the continuum's end effect, of the order of the
-  // section's contraction over the length.
+  // nu = 0: uniaxial stress holds exactly and the continuum elongation is rho g L^2 / (2 E); the
+  // finite-element lumping of the mass makes the discrete bar exact too, up to geometric
+  // nonlinearity (strain ~1e-3). At nu > 0 the clamped top face stops the lateral contraction
+  // there: the error falls at first order (the clamped edges are singular) under uniform
+  // refinement (1, 2, 4 cubic cells across: 60 to 3,840 tets), and the Richardson limit differs
+  // from the uniaxial value by the continuum's end effect. At nu = 0.45 linear tets lock: the
+  // error still falls, slowly (measured order 0.4), and the finest mesh is about 3 % stiff.
   const double exact = 1100.0 * 9.81 * 1.0 / (2 * 1.0e7);
   for (MaterialModel model : kContinuumModels)
   {
     for (double nu : { 0.0, 0.3, 0.45 })
     {
       std::array<double, 3> error{};
-      const std::array<int, 3> cells{ 5, 10, 20 };
+      const std::array<int, 3> cells{ 1, 2, 4 };
       for (std::size_t k = 0; k < 3; ++k)
       {
         error[k] = hangingBarElongation(model, nu, cells[k]) / exact - 1;
-        std::printf("%s nu %.2f, %2d cells along: relative error %+.3e\n",
+        std::printf("%s nu %.2f, %d cells across: relative error %+.3e\n",
           materialModelName(model), nu, cells[k], error[k]);
       }
       if (nu == 0.0)
       {
-        EXPECT_LT(std::abs(error[2]), 2e-3) << materialModelName(model);
+        EXPECT_LT(std::abs(error[2]), 1e-4) << materialModelName(model);
         continue;
       }
       const double ratio = (error[0] - error[1]) / (error[1] - error[2]);
       const double order = std::log2(ratio);
       const double limit = error[2] - (error[1] - error[2]) / (ratio - 1);
       std::printf("  measured order %.2f, extrapolated limit %+.3e\n", order, limit);
-      EXPECT_GT(order, 0.8) << materialModelName(model) << " nu " << nu;
-      EXPECT_LT(std::abs(limit), 0.01) << materialModelName(model) << " nu " << nu;
+      EXPECT_LT(std::abs(error[2]), std::abs(error[1])) << materialModelName(model) << " nu " << nu;
+      if (nu < 0.4)
+      {
+        EXPECT_LT(std::abs(error[2]), 0.01) << materialModelName(model) << " nu " << nu;
+        EXPECT_GT(order, 0.8) << materialModelName(model) << " nu " << nu;
+        EXPECT_LT(std::abs(limit), 0.01) << materialModelName(model) << " nu " << nu;
+      }
+      else
+      {
+        EXPECT_LT(std::abs(error[2]), 0.05) << materialModelName(model) << " nu " << nu;
+      }
     }
   }
 }
