@@ -38,7 +38,15 @@ std::string vtkSoftBodyInversionReport::Warning(std::size_t inverted, std::size_
   std::ostringstream text;
   text << inverted << " of " << tets << " tets are inverted at t = " << time
        << " s (VolumeRatio <= 0; field data InvertedTets counts them in every frame). ";
-  if (p.Method == vtkSoftBodyFilter::MASS_SPRING)
+  if (p.Method == vtkSoftBodyFilter::MASS_SPRING && p.MaterialModel != vtkSoftBodyFilter::SPRING_NETWORK)
+  {
+    text << "The finite-element material pushes inverted tets back, but a step that crushes them "
+            "faster than they recover leaves them inverted; the implicit integrators resolve "
+            "contacts with obstacles and other bodies only after each step (TimeStep "
+         << p.TimeStep << " s; 0 = one step per frame): lower TimeStep, or use Euler-Cromer for "
+            "bodies that touch.";
+  }
+  else if (p.Method == vtkSoftBodyFilter::MASS_SPRING)
   {
     text << "Mass-Spring's springs and linear volume term do not keep a tet from turning inside "
             "out when the load on it is large against YoungsModulus ("

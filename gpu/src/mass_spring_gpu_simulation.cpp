@@ -7,6 +7,7 @@
 #include "softbody/common/errors.h"
 #include "softbody/gpu/gpu_errors.h"
 #include "softbody/common/stepping.h"
+#include "softbody/massspring/mass_spring_forces.h"
 #include "softbody/massspring/mass_spring_plan.h"
 #include "softbody/massspring/mass_spring_setup.h"
 #include "softbody/massspring/tet_body_contacts.h"
@@ -147,6 +148,12 @@ std::vector<double> MassSpringGpuSimulation::tetVolumeRatios() const
   // Only for output frames: computed on the host from the downloaded positions.
   const MassSpringSetup& s = Body->setup;
   return softbody::tetVolumeRatios(s.topology.tets, s.constants.restVolume, state().positions);
+}
+
+double MassSpringGpuSimulation::elasticEnergy() const
+{
+  const MassSpringSetup& s = Body->setup;
+  return softbody::elasticEnergy(s.topology, s.constants, state().positions);
 }
 
 double MassSpringGpuSimulation::stepSize() const

@@ -50,6 +50,7 @@ public:
   const std::vector<double>& inverseMasses() const override;
   double totalMass() const override;
   std::vector<double> tetVolumeRatios() const override;
+  double elasticEnergy() const override; ///< the spring network's, from the downloaded positions
   double stepSize() const override;
   double estimatedStableStep() const override;
   const std::vector<std::string>& warnings() const override;
