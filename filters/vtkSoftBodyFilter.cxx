@@ -3,6 +3,7 @@
 #include "vtkSoftBodyDistribution.h"
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyFrameRunner.h"
+#include "vtkSoftBodyConditionInput.h"
 #include "vtkSoftBodyObstacleTimeline.h"
 #include "vtkSoftBodyOutputAssembly.h"
 #include "vtkSoftBodyOutputPort.h"
@@ -33,6 +34,8 @@ vtkStandardNewMacro(vtkSoftBodyFilter);
 // cache and what they were built from).
 class vtkSoftBodyFilter::vtkInternals : public vtkSoftBodyFrameRunner
 {
+public:
+  vtkSoftBodyConditionInput Conditions; ///< the Conditions input, converted on the body
 };
 
 namespace
@@ -64,7 +67,7 @@ vtkInformation* RequestingPortInformation(
 vtkSoftBodyFilter::vtkSoftBodyFilter()
   : Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(3);
+  this->SetNumberOfInputPorts(4);
   this->SetNumberOfOutputPorts(vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Count));
   this->P = vtkSoftBodySettings::DefaultParameters();
 }
@@ -90,10 +93,11 @@ int vtkSoftBodyFilter::FillInputPortInformation(int port, vtkInformation* info)
     info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
     return 1;
   }
-  if (port == 2)
+  if (port == 2 || port == 3)
   {
-    // Obstacles: any number of connections; any data object, so a composite dataset gets
-    // one clear error (vtkSoftBodyObstacleInput::TypeError).
+    // Obstacles and Conditions: any number of connections; any data object, so a composite
+    // dataset gets one clear error (vtkSoftBodyObstacleInput::TypeError,
+    // vtkSoftBodyConditionInput).
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
     info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
     info->Set(vtkAlgorithm::INPUT_IS_REPEATABLE(), 1);
@@ -157,6 +161,11 @@ int vtkSoftBodyFilter::RequestUpdateExtent(
     {
       inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
     }
+  }
+  // Conditions hold their own time functions: their producers are not asked for our time.
+  for (int c = 0; c < inputVector[3]->GetNumberOfInformationObjects(); ++c)
+  {
+    inputVector[3]->GetInformationObject(c)->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
   }
   // Under MPI the Surface is skinned whole on rank 0, which then simulates every body
   // (RequestData): every rank asks for all of it, not the piece its number would select.
@@ -222,6 +231,16 @@ int vtkSoftBodyFilter::RequestData(
   {
     vtkSoftBodyOutputAssembly::StampTime(outputVector, t);
     return 1;
+  }
+
+  // The Conditions input, its sets found among this rank's body points; part of the settings
+  // the simulation is built from, so a changed condition rebuilds it.
+  const std::string conditionError =
+    this->Internals->Conditions.Read(inputVector[3], input, settings.Conditions);
+  if (!conditionError.empty())
+  {
+    vtkErrorMacro(<< conditionError);
+    return 0;
   }
 
   // The Obstacles input (ignored with Collisions Off): each connection's key, and the moving
@@ -409,6 +428,7 @@ void vtkSoftBodyFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "VelocityDamping: " << this->P.VelocityDamping << "\n";
   os << indent << "CacheMemoryLimit: " << this->P.CacheMemoryLimit << " MiB\n";
   os << indent << "Obstacles: " << this->GetNumberOfInputConnections(2) << " connections\n";
+  os << indent << "Conditions: " << this->GetNumberOfInputConnections(3) << " connections\n";
   os << indent << "SimulatedStepsTotal: " << this->SimulatedStepsTotal << "\n";
   os << indent << "CachedFrames: " << this->Internals->Cache.GetNumberOfFrames() << " ("
      << this->Internals->Cache.GetMemoryUsed() << " bytes)\n";

@@ -106,6 +106,14 @@ public:
   void AddObstacleConnection(vtkAlgorithmOutput* output) { this->AddInputConnection(2, output); }
   void RemoveAllObstacles() { this->SetInputConnection(2, nullptr); }
 
+  /**
+   * Conditions (input port 3, optional and repeatable): outputs of Soft Body Condition, each a
+   * load or boundary condition on a set of the body's points (found by position; see
+   * vtkSoftBodyConditionInput). Mass-Spring only for now.
+   */
+  void AddConditionConnection(vtkAlgorithmOutput* output) { this->AddInputConnection(3, output); }
+  void RemoveAllConditions() { this->SetInputConnection(3, nullptr); }
+
   ///@{
   /**
    * Method: MASS_SPRING (0, tetrahedra only), PBD (1) or XPBD (2) (tetrahedra, and line cells

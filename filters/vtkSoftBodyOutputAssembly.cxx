@@ -9,6 +9,7 @@
 #include "vtkSoftBodySettings.h"
 #include "vtkSoftBodySimulationFactory.h"
 #include "vtkSoftBodySkin.h"
+#include "vtkSoftBodyConditionOutput.h"
 #include "vtkSoftBodyStressOutput.h"
 
 #include "vtkCellArray.h"
@@ -171,6 +172,7 @@ std::string vtkSoftBodyOutputAssembly::FillMesh(vtkUnstructuredGrid* input,
   }
 
   vtkSoftBodyStressOutput::Add(simulation.stressField(), simulation.restPositions(), output);
+  vtkSoftBodyConditionOutput::Add(simulation.conditionReadout(), output);
 
   vtkFieldData* field = output->GetFieldData();
   field->AddArray(MakeScalarArray("SimulationTime", { simulation.time() }));

@@ -32,6 +32,8 @@ struct vtkSoftBodyCoreSettings
   std::string PinnedPointsArray;              ///< empty: nothing pinned
   /// Cell arrays of per-cell YoungsModulus, PoissonRatio, Density (Mass-Spring); empty: uniform.
   std::string YoungsModulusArray, PoissonRatioArray, DensityArray;
+  /// The Conditions input on the body (vtkSoftBodyConditionInput), in its point numbers.
+  std::vector<softbody::Condition> Conditions;
 
   // Mass-Spring
   softbody::SceneSettings Scene;

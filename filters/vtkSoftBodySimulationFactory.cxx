@@ -55,6 +55,7 @@ bool BuildMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& 
     return false;
   }
   body.material = settings.Material;
+  body.conditions = settings.Conditions;
   error = vtkSoftBodyInputConversion::ConvertCellMaterial(input, settings.YoungsModulusArray,
     settings.PoissonRatioArray, settings.DensityArray, body.material.cells);
   if (!error.empty())
@@ -114,6 +115,14 @@ bool vtkSoftBodySimulationFactory::Build(vtkUnstructuredGrid* input,
   if (settings.Method == vtkSoftBodyParameters::PBD ||
     settings.Method == vtkSoftBodyParameters::XPBD)
   {
+    if (!settings.Conditions.empty())
+    {
+      error = "Method " + std::string(settings.Method == vtkSoftBodyParameters::PBD ? "PBD" : "XPBD") +
+        " does not take the Conditions input yet (" + std::to_string(settings.Conditions.size()) +
+        " connected, the first '" + settings.Conditions.front().name +
+        "'). Use Method Mass-Spring, or hold points with PinnedPointsArray.";
+      return false;
+    }
     built.Simulation = built.PbdAdapter.Create(settings, input, error, built.Pbd);
     return built.Simulation != nullptr;
   }

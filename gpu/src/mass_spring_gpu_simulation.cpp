@@ -205,6 +205,12 @@ std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(
       materialModelName(body.material.model) + ".";
     return nullptr;
   }
+  if (!body.conditions.empty())
+  {
+    whyNot = "the GPU backend has no loads or boundary conditions yet, and the body has " +
+      std::to_string(body.conditions.size()) + " (Conditions input).";
+    return nullptr;
+  }
   try
   {
     return std::make_unique<MassSpringGpuSimulation>(body, scene);

@@ -23,7 +23,7 @@ public:
     : Omega2(omega * omega)
   {
   }
-  void evaluate(const std::vector<Vec3>& x, const std::vector<Vec3>&, std::vector<Vec3>& a) const override
+  void evaluate(double, const std::vector<Vec3>& x, const std::vector<Vec3>&, std::vector<Vec3>& a) const override
   {
     a.resize(x.size());
     for (std::size_t i = 0; i < x.size(); ++i)

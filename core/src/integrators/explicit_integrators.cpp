@@ -21,7 +21,7 @@ void forEachPoint(std::size_t count, const Body& body)
 void explicitEuler(double h, const AccelerationEvaluator& evaluator, DynamicState& s,
   IntegratorScratch& w)
 {
-  evaluator.evaluate(s.positions, s.velocities, w.acceleration);
+  evaluator.evaluate(s.time, s.positions, s.velocities, w.acceleration);
   forEachPoint(s.positions.size(), [&](std::size_t i) {
     s.positions[i] += h * s.velocities[i];
     s.velocities[i] += h * w.acceleration[i];
@@ -32,14 +32,14 @@ void explicitEuler(double h, const AccelerationEvaluator& evaluator, DynamicStat
 void midpoint(double h, const AccelerationEvaluator& evaluator, DynamicState& s,
   IntegratorScratch& w)
 {
-  evaluator.evaluate(s.positions, s.velocities, w.acceleration);
+  evaluator.evaluate(s.time, s.positions, s.velocities, w.acceleration);
   w.midPositions.resize(s.positions.size());
   w.midVelocities.resize(s.positions.size());
   forEachPoint(s.positions.size(), [&](std::size_t i) {
     w.midPositions[i] = s.positions[i] + 0.5 * h * s.velocities[i];
     w.midVelocities[i] = s.velocities[i] + 0.5 * h * w.acceleration[i];
   });
-  evaluator.evaluate(w.midPositions, w.midVelocities, w.acceleration);
+  evaluator.evaluate(s.time + 0.5 * h, w.midPositions, w.midVelocities, w.acceleration);
   forEachPoint(s.positions.size(), [&](std::size_t i) {
     s.positions[i] += h * w.midVelocities[i];
     s.velocities[i] += h * w.acceleration[i];
@@ -51,7 +51,7 @@ void midpoint(double h, const AccelerationEvaluator& evaluator, DynamicState& s,
 void kickDrift(double h, double kick, const AccelerationEvaluator& evaluator, DynamicState& s,
   IntegratorScratch& w)
 {
-  evaluator.evaluate(s.positions, s.velocities, w.acceleration);
+  evaluator.evaluate(s.time, s.positions, s.velocities, w.acceleration);
   forEachPoint(s.positions.size(), [&](std::size_t i) {
     s.velocities[i] += kick * w.acceleration[i];
     s.positions[i] += h * s.velocities[i];

@@ -12,21 +12,31 @@ namespace softbody
 
 std::unique_ptr<ImplicitIntegrator> makeImplicitIntegrator(const SceneSettings& scene,
   const Topology& topology, const BodyElements& elements, const PointMasses& masses,
-  const std::vector<Vec3>& restPositions, const std::vector<Vec3>& positions)
+  const std::vector<Vec3>& restPositions, const std::vector<Vec3>& positions,
+  const BoundaryConditions* conditions)
 {
+  std::unique_ptr<ImplicitIntegrator> integrator;
   switch (scene.integrator)
   {
     case Integrator::ImplicitEuler:
-      return std::make_unique<ImplicitEulerStepper>(topology, elements, masses, scene);
+      integrator = std::make_unique<ImplicitEulerStepper>(topology, elements, masses, scene);
+      break;
     case Integrator::ProjectiveDynamics:
-      return std::make_unique<ProjectiveDynamicsStepper>(
+      integrator = std::make_unique<ProjectiveDynamicsStepper>(
         topology, elements, masses, restPositions, scene);
+      break;
     case Integrator::Static:
-      return std::make_unique<StaticStepper>(topology, elements, masses, scene, positions);
+      integrator = std::make_unique<StaticStepper>(topology, elements, masses, scene, positions);
+      break;
     default:
       throw std::logic_error(std::string("makeImplicitIntegrator: ") +
         integratorName(scene.integrator) + " is not implicit");
   }
+  if (conditions && !conditions->empty())
+  {
+    integrator->potential().setConditions(conditions);
+  }
+  return integrator;
 }
 
 } // namespace softbody

@@ -60,7 +60,7 @@ void ImplicitStepSolver::filterGradient()
 double ImplicitStepSolver::filteredResidual(
   const std::vector<Vec3>& gradient, const std::vector<PointMotion>& motion)
 {
-  const MotionFilter filter{ motion, Filter.normal };
+  const MotionFilter filter{ motion, Filter.normal, Filter.heldAxes };
   Scratch.resize(gradient.size());
   parallelFor(gradient.size(), 4096, [&](std::size_t i) { Scratch[i] = filter.apply(i, gradient[i]); });
   return Potential.residualAcceleration(Scratch);
@@ -290,7 +290,8 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
 {
   {
     ScopedStageTimer timer(plan, Stage::Forces);
-    Potential.beginStep(state.positions, state.velocities, h);
+    Potential.beginStep(state.positions, state.velocities, h, state.time);
+    Filter.heldAxes = Potential.heldAxes();
     TrialGradient.resize(state.positions.size());
     // Two starting points, keep the lower Phi: the explicit prediction y + h^2 g is exact in
     // free fall; y alone is far better for a body resting on the floor (gravity's drift would

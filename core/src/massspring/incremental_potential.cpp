@@ -22,9 +22,10 @@ IncrementalPotential::IncrementalPotential(
 }
 
 void IncrementalPotential::beginStep(
-  const std::vector<Vec3>& x0, const std::vector<Vec3>& v0, double h)
+  const std::vector<Vec3>& x0, const std::vector<Vec3>& v0, double h, double t0)
 {
   H = h;
+  EndTime = t0 + h;
   X0 = x0;
   const double momentum = parallelSum(x0.size(), [&](std::size_t i) {
     return Active[i] ? v0[i].squaredNorm() / InverseMass[i] : 0.0;
@@ -34,14 +35,71 @@ void IncrementalPotential::beginStep(
   parallelFor(x0.size(), 4096, [&](std::size_t i) {
     Target[i] = Active[i] ? Vec3(x0[i] + h * v0[i]) : x0[i];
   });
+  LoadScale = 0.0;
+  if (Conditions)
+  {
+    HeldVelocity.resize(x0.size());
+    Conditions->holdPoints(EndTime, Target, HeldVelocity);
+    if (Conditions->hasLoads())
+    {
+      Conditions->deadLoads(EndTime, x0, DeadLoad);
+      PullForce.assign(x0.size(), Vec3::Zero());
+      Conditions->addPullForces(EndTime, x0, PullForce);
+      const double load = parallelSum(x0.size(), [&](std::size_t i) {
+        return Active[i] ? (DeadLoad[i] + PullForce[i]).squaredNorm() * InverseMass[i] : 0.0;
+      });
+      LoadScale = ActiveMass > 0.0 ? std::sqrt(load / ActiveMass) : 0.0;
+    }
+  }
   beginElements();
+}
+
+double IncrementalPotential::addLoadTerms(const std::vector<Vec3>& x, std::vector<Vec3>& gradient)
+{
+  if (!Conditions || !Conditions->hasLoads())
+  {
+    return 0.0;
+  }
+  PullForce.assign(x.size(), Vec3::Zero());
+  const double pull = Conditions->hasPull() ? Conditions->addPullForces(EndTime, x, PullForce) : 0.0;
+  parallelFor(x.size(), kVertexGrain, [&](std::size_t i) {
+    if (Active[i])
+    {
+      gradient[i] -= DeadLoad[i] + PullForce[i];
+    }
+  });
+  // The dead load's work from x0, like gravity's: the same minimizer, small values.
+  return pull - parallelSum(x.size(), [&](std::size_t i) {
+    return Active[i] ? DeadLoad[i].dot(x[i] - X0[i]) : 0.0;
+  });
+}
+
+void IncrementalPotential::addLoadHessian(BlockSparseMatrix& hessian)
+{
+  if (!Conditions || !Conditions->hasPull())
+  {
+    return;
+  }
+  Conditions->pullStiffness(EndTime, PullStiffness);
+  for (std::size_t i = 0; i < Active.size(); ++i)
+  {
+    if (Active[i] && PullStiffness[i] > 0.0)
+    {
+      hessian.block(hessian.diagonalSlot(i)) += PullStiffness[i] * Mat3::Identity();
+    }
+  }
 }
 
 void IncrementalPotential::predict(std::vector<Vec3>& x, bool withGravity) const
 {
   const Vec3 drift = withGravity ? Vec3(H * H * Gravity) : Vec3::Zero();
   x.resize(Target.size());
-  parallelFor(Target.size(), 4096, [&](std::size_t i) { x[i] = Active[i] ? Vec3(Target[i] + drift) : X0[i]; });
+  parallelFor(Target.size(), 4096, [&](std::size_t i) { x[i] = Active[i] ? Vec3(Target[i] + drift) : Target[i]; });
+  if (Conditions && !Conditions->heldAxes().empty())
+  {
+    std::vector<Vec3> unused(x.size());
+    Conditions->holdPoints(EndTime, x, unused);
+  }
 }
 
 double IncrementalPotential::inertialEnergy(const std::vector<Vec3>& x) const
@@ -62,7 +120,7 @@ double IncrementalPotential::inertialEnergy(const std::vector<Vec3>& x) const
 
 double IncrementalPotential::referenceAcceleration(double gravityNorm) const
 {
-  return std::max({ gravityNorm, SpeedScale / H, 1e-12 });
+  return std::max({ gravityNorm, SpeedScale / H, LoadScale, 1e-12 });
 }
 
 double IncrementalPotential::residualAcceleration(const std::vector<Vec3>& gradient) const

@@ -19,6 +19,15 @@ BodyDescription reorderBody(const BodyDescription& body, const Reordering& reord
   cells.youngsModulus = toStorageOrder(cells.youngsModulus, reordering.tetOrder);
   cells.poissonRatio = toStorageOrder(cells.poissonRatio, reordering.tetOrder);
   cells.density = toStorageOrder(cells.density, reordering.tetOrder);
+  stored.conditions = body.conditions;
+  const Order slot = inverseOrder(reordering.vertexOrder);
+  for (Condition& c : stored.conditions)
+  {
+    for (std::int32_t& p : c.points)
+    {
+      p = slot[static_cast<std::size_t>(p)];
+    }
+  }
   return stored;
 }
 
@@ -44,6 +53,9 @@ std::unique_ptr<Simulation> buildReorderedMassSpring(BodyDescription body,
     prepared.mesh = prepareTetMesh(body.mesh, scene.invertedTets, meshWarnings);
     prepared.pinned = body.pinned;
     prepared.material = body.material;
+    prepared.conditions = body.conditions;
+    std::vector<std::string> ignored; // said by the stepper itself
+    validateConditions(body.conditions, body.mesh.points.size(), ignored);
     reordering = computeReordering(ordering, prepared.mesh.points, prepared.mesh.tets, {}, true);
     inner = make(reorderBody(prepared, reordering));
   }

@@ -122,23 +122,37 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
   {
     restVolume += v;
   }
+  std::vector<double> cellMasses;
+  double totalMass = 0.0;
   if (body.material.cells.density.empty())
   {
-    s.masses = distributeMass(s.topology, s.constants.restVolume,
-      totalMassOf(body.material, restVolume), body.material.massDistribution,
-      body.material.maxInverseMass, body.pinned);
+    totalMass = totalMassOf(body.material, restVolume);
   }
   else
   {
-    const std::vector<double> masses = tetMasses(body.material, s.constants.restVolume);
-    double total = 0.0;
-    for (double m : masses)
+    cellMasses = tetMasses(body.material, s.constants.restVolume);
+    for (double m : cellMasses)
     {
-      total += m;
+      totalMass += m;
     }
-    s.masses = distributeMass(s.topology, masses, total, body.material.massDistribution,
-      body.material.maxInverseMass, body.pinned);
   }
+  // Points whose x, y and z are all held move only as their conditions say: inverse mass 0,
+  // like pins.
+  s.conditions = BoundaryConditions(
+    std::move(body.conditions), s.mesh.points, s.mesh.tets, totalMass, s.warnings);
+  std::vector<char> fixed = body.pinned;
+  if (!s.conditions.heldAxes().empty())
+  {
+    const std::vector<char> held = s.conditions.fullyHeld();
+    fixed.resize(held.size(), 0);
+    for (std::size_t i = 0; i < held.size(); ++i)
+    {
+      fixed[i] = fixed[i] || held[i];
+    }
+  }
+  s.masses = distributeMass(s.topology, cellMasses.empty() ? s.constants.restVolume : cellMasses,
+    totalMass, body.material.massDistribution, body.material.maxInverseMass, fixed);
+  s.conditions.setMasses(s.masses.mass);
   if (s.masses.truncatedCount > 0)
   {
     std::ostringstream message;

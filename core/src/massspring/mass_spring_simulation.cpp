@@ -23,7 +23,8 @@ SceneSettings floorPassScene(const TetMesh& mesh, const SceneSettings& scene)
   return lifted;
 }
 
-/// Accelerations a_i = g + w_i f_i for free points, 0 for pinned and massless ones.
+/// Accelerations a_i = g + w_i (f_i + loads_i) for free points, 0 for pinned and massless ones
+/// and along the components conditions hold.
 class MassSpringSimulation::Forces final : public AccelerationEvaluator
 {
 public:
@@ -31,25 +32,21 @@ public:
     : Owner(owner)
   {
   }
-  void evaluate(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
-    std::vector<Vec3>& accelerations) const override
+  void evaluate(double time, const std::vector<Vec3>& positions,
+    const std::vector<Vec3>& velocities, std::vector<Vec3>& accelerations) const override
   {
     ScopedStageTimer timer(Owner.Plan, Stage::Forces);
-    if (isContinuum(Owner.Model))
+    Owner.internalForces(positions, velocities, accelerations);
+    if (Owner.Conditions.hasLoads())
     {
-      computeTetElasticForces(
-        Owner.Topo, Owner.TetConstants, positions, velocities, Owner.TetForceWork, accelerations);
-    }
-    else
-    {
-      computeInternalForces(
-        Owner.Topo, Owner.Constants, positions, velocities, Owner.ForceWork, accelerations);
+      Owner.Conditions.addLoads(time, positions, accelerations);
     }
     const std::vector<double>& w = Owner.Masses.inverseMass;
     const Vec3 gravity = Owner.Scene.gravity;
     parallelFor(accelerations.size(), 4096, [&](std::size_t i) {
       accelerations[i] = w[i] == 0.0 ? Vec3::Zero() : Vec3(gravity + w[i] * accelerations[i]);
     });
+    Owner.Conditions.filterHeld(accelerations);
   }
 
 private:
@@ -71,6 +68,8 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
   Constants = std::move(setup.constants);
   TetConstants = std::move(setup.tetConstants);
   Masses = std::move(setup.masses);
+  Conditions = std::move(setup.conditions);
+  Conditions.holdPoints(State.time, State.positions, State.velocities);
   Step = setup.step;
   StableStep = setup.stableStep;
   OmegaMax = setup.omegaMax;
@@ -97,8 +96,32 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
   {
     Implicit = makeImplicitIntegrator(solveScene, Topo,
       BodyElements{ Model, &Constants, isContinuum(Model) ? &TetConstants : nullptr }, Masses,
-      Mesh.points, State.positions);
+      Mesh.points, State.positions, &Conditions);
   }
+}
+
+void MassSpringSimulation::internalForces(const std::vector<Vec3>& positions,
+  const std::vector<Vec3>& velocities, std::vector<Vec3>& forces) const
+{
+  if (isContinuum(Model))
+  {
+    computeTetElasticForces(Topo, TetConstants, positions, velocities, TetForceWork, forces);
+  }
+  else
+  {
+    computeInternalForces(Topo, Constants, positions, velocities, ForceWork, forces);
+  }
+}
+
+ConditionReadout MassSpringSimulation::conditionReadout() const
+{
+  if (Conditions.empty())
+  {
+    return {};
+  }
+  std::vector<Vec3> internal;
+  internalForces(State.positions, State.velocities, internal);
+  return Conditions.readout(State.time, State.positions, internal, Masses.mass, Scene.gravity);
 }
 
 const ImplicitConvergence* MassSpringSimulation::implicitConvergence() const
@@ -191,6 +214,9 @@ void MassSpringSimulation::stepOnce(double h)
   {
     integrateExplicit(h);
   }
+  // The held components where their conditions put them at the step's end (the integrators
+  // moved them by their velocity; the implicit solve left fully held points where they were).
+  Conditions.holdPoints(State.time, State.positions, State.velocities);
   if (Plan.runs(Stage::StrainLimit))
   {
     ScopedStageTimer timer(Plan, Stage::StrainLimit);

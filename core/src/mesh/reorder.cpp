@@ -381,4 +381,11 @@ TetStressField ReorderedSimulation::stressField() const
   return field;
 }
 
+ConditionReadout ReorderedSimulation::conditionReadout() const
+{
+  ConditionReadout readout = Inner->conditionReadout();
+  readout.reactions = toInputOrder(readout.reactions, Map.vertexOrder);
+  return readout;
+}
+
 } // namespace softbody

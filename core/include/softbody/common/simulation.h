@@ -7,6 +7,7 @@
 #include "softbody/common/state.h"
 #include "softbody/common/step_plan.h"
 #include "softbody/common/tet_stress_field.h"
+#include "softbody/scene/boundary_conditions.h"
 
 #include <functional>
 #include <string>
@@ -54,6 +55,9 @@ public:
   /// Strain, stress and energy density per tet, in the order tetVolumeRatios() has; empty
   /// where the body has no continuum model.
   virtual TetStressField stressField() const { return {}; }
+  /// Reactions at held points (input point order) and each condition's total force and
+  /// moment at the current state; empty where the body has no conditions.
+  virtual ConditionReadout conditionReadout() const { return {}; }
   /// Elastic energy of the current state [J]; NaN where the stepper does not say.
   virtual double elasticEnergy() const;
   /// Kinetic energy sum m v^2 / 2 of the free points [J].

@@ -12,13 +12,14 @@
 namespace softbody
 {
 
-/// Computes accelerations [m/s^2] for given positions and velocities.
+/// Computes accelerations [m/s^2] for given positions and velocities at a time [s] (loads may
+/// change with time; Midpoint evaluates at the step's middle).
 class AccelerationEvaluator
 {
 public:
   virtual ~AccelerationEvaluator() = default;
-  virtual void evaluate(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
-    std::vector<Vec3>& accelerations) const = 0;
+  virtual void evaluate(double time, const std::vector<Vec3>& positions,
+    const std::vector<Vec3>& velocities, std::vector<Vec3>& accelerations) const = 0;
 };
 
 /// Work arrays reused across steps (no allocation in the step loop).

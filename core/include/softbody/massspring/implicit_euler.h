@@ -28,6 +28,7 @@ public:
   void step(double h, DynamicState& state, StepPlan& plan) override;
 
   const ImplicitConvergence& convergence() const override { return Convergence; }
+  IncrementalPotential& potential() override { return *Potential; }
   /// CG iteration limit per Newton iteration.
   static constexpr int kMaxLinearIterations = 2000;
 

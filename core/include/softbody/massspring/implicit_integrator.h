@@ -26,13 +26,17 @@ public:
   /// element passes as Stage::Forces and its solves as Stage::LinearSolve.
   virtual void step(double h, DynamicState& state, StepPlan& plan) = 0;
   virtual const ImplicitConvergence& convergence() const = 0;
+  /// The incremental potential the steps minimize (its loads and held points are set on it).
+  virtual IncrementalPotential& potential() = 0;
 };
 
 /// The strategy for scene.integrator (which must be implicit), over the prepared body.
 /// `scene` is the solve's scene: its floor is where contacts hold points. `positions` are the
 /// body's starting positions (the static solve checks that its fixed points hold it).
+/// `conditions` (null: none) are the body's loads and held points; they must outlive it.
 std::unique_ptr<ImplicitIntegrator> makeImplicitIntegrator(const SceneSettings& scene,
   const Topology& topology, const BodyElements& elements, const PointMasses& masses,
-  const std::vector<Vec3>& restPositions, const std::vector<Vec3>& positions);
+  const std::vector<Vec3>& restPositions, const std::vector<Vec3>& positions,
+  const BoundaryConditions* conditions = nullptr);
 
 } // namespace softbody

@@ -22,6 +22,13 @@
 //            assembleHessian).
 // Pinned points (inverse mass 0) are fixed: their rows are inactive.
 //
+// Loads and boundary conditions (scene/boundary_conditions.h) enter as: held components at
+// their condition's position at the step's end (fully held points are inactive rows, a
+// roller's held components are filtered out by the solver); Force and Pressure as a dead load
+// f over the step, the term -f . (x - x0) (Pressure evaluated on the faces at the step's
+// start, so the term stays a potential); Pull springs with their energy and the diagonal of
+// their Hessian.
+//
 // The elastic and damping terms come from a material model (material/element_model.h): a list
 // of element families, each giving per element its energy, corner gradients and PSD Hessian
 // blocks. IncrementalPotential holds what does not depend on the model (inertia, gravity,
@@ -42,6 +49,7 @@
 #include "softbody/material/element_model.h"
 #include "softbody/material/mass.h"
 #include "softbody/material/spring_network.h"
+#include "softbody/scene/boundary_conditions.h"
 
 #include <cstdint>
 #include <tuple>
@@ -60,11 +68,21 @@ public:
   IncrementalPotential(const IncrementalPotential&) = delete;
   IncrementalPotential& operator=(const IncrementalPotential&) = delete;
 
-  /// Starts a step of h from (x0, v0): the inertial target y and the frozen damping directions.
-  void beginStep(const std::vector<Vec3>& x0, const std::vector<Vec3>& v0, double h);
+  /// The body's loads and boundary conditions (null: none); must outlive this.
+  void setConditions(const BoundaryConditions* conditions) { Conditions = conditions; }
+  /// Per point, the components held by a condition (empty when none is).
+  const std::vector<AxisMask>* heldAxes() const
+  {
+    return Conditions && !Conditions->heldAxes().empty() ? &Conditions->heldAxes() : nullptr;
+  }
+
+  /// Starts a step of h from (x0, v0) at time t0: the inertial target y, the frozen damping
+  /// directions, the loads and the held points' positions at t0 + h.
+  void beginStep(const std::vector<Vec3>& x0, const std::vector<Vec3>& v0, double h, double t0 = 0.0);
 
   /// A starting point: the inertial target y = x0 + h v0, plus h^2 g when `withGravity` (the
-  /// explicit prediction, exact in free fall); x0 for fixed points.
+  /// explicit prediction, exact in free fall); fixed points where they are at the step's end,
+  /// held components where their conditions put them.
   void predict(std::vector<Vec3>& x, bool withGravity) const;
 
   /// Phi(x) [J]; also fills the gradient [N] (zero on fixed points) and keeps the element data
@@ -79,8 +97,9 @@ public:
   /// [m/s^2]: how far the step's equations are from holding, in the units of g.
   double residualAcceleration(const std::vector<Vec3>& gradient) const;
 
-  /// The acceleration scale the residual is measured against [m/s^2]: the larger of |g| and
-  /// the RMS speed at the step's start over h (a body thrown without gravity), never 0.
+  /// The acceleration scale the residual is measured against [m/s^2]: the largest of |g|, the
+  /// RMS speed at the step's start over h (a body thrown without gravity) and the loads' RMS
+  /// acceleration, never 0.
   double referenceAcceleration(double gravityNorm) const;
 
   /// Drops inertia from Phi: what is left, the elastic energy minus gravity's work, is minimal
@@ -100,6 +119,11 @@ protected:
   virtual void beginElements() = 0;
   /// The inertia and gravity part of Phi(x) [J].
   double inertialEnergy(const std::vector<Vec3>& x) const;
+  /// Adds the loads' terms to Phi's gradient at x (zero rows stay zero) and returns their
+  /// energy [J]; 0 without loads.
+  double addLoadTerms(const std::vector<Vec3>& x, std::vector<Vec3>& gradient);
+  /// Adds the Pull springs' diagonal Hessian blocks of the active rows.
+  void addLoadHessian(BlockSparseMatrix& hessian);
 
   static constexpr std::size_t kElementGrain = 2048;
   static constexpr std::size_t kVertexGrain = 512;
@@ -109,11 +133,16 @@ protected:
   std::vector<char> Active; ///< free points (inverse mass > 0)
   double ActiveMass = 0.0;
   bool Static = false; ///< no inertia (makeStatic)
+  const BoundaryConditions* Conditions = nullptr;
 
   // Per step
   double H = 0.0;
   double SpeedScale = 0.0; ///< mass-weighted RMS speed at the step's start [m/s]
-  std::vector<Vec3> X0, Target; ///< x0 and y
+  double LoadScale = 0.0;  ///< mass-weighted RMS acceleration of the loads at the start [m/s^2]
+  double EndTime = 0.0;    ///< t0 + h: when the held points must be where Target has them
+  std::vector<Vec3> X0, Target; ///< x0 and y (for held points: where they are at EndTime)
+  std::vector<Vec3> DeadLoad, PullForce, HeldVelocity; ///< [N], [N], unused velocities
+  std::vector<double> PullStiffness; ///< [N/m]
 };
 
 /// Phi with the elastic and damping terms of `Model`'s element families.
@@ -222,7 +251,9 @@ double ModelPotential<Model>::evaluate(const std::vector<Vec3>& x, std::vector<V
     gradient[i] = sum;
   });
   const double inertia = inertialEnergy(x);
-  return inertia + parallelSum(ElementEnergy.size(), [&](std::size_t e) { return ElementEnergy[e]; });
+  const double loads = addLoadTerms(x, gradient);
+  return inertia + parallelSum(ElementEnergy.size(), [&](std::size_t e) { return ElementEnergy[e]; }) +
+    loads;
 }
 
 template <ElementModel Model>
@@ -310,6 +341,7 @@ void ModelPotential<Model>::assembleHessian(
       });
     });
   });
+  addLoadHessian(hessian);
 }
 
 } // namespace softbody

@@ -1,10 +1,11 @@
-// What a mass-spring simulation is built from: the body (mesh, pins, material) and the scene
+// What a mass-spring simulation is built from: the body (mesh, pins, material, conditions) and the scene
 // settings (integrator, step, gravity, floor, strain limit). Immutable once the stepper is made.
 #pragma once
 
 #include "softbody/integrators/explicit_integrators.h"
 #include "softbody/material/material.h"
 #include "softbody/mesh/tet_mesh.h"
+#include "softbody/scene/conditions.h"
 #include "softbody/scene/scene.h"
 
 #include <vector>
@@ -50,6 +51,8 @@ struct BodyDescription
   TetMesh mesh;
   std::vector<char> pinned; ///< empty, or one flag per mesh point (nonzero: pinned)
   MaterialSettings material;
+  /// Loads and boundary conditions on sets of the mesh's points (pins are Fixed ones too).
+  std::vector<Condition> conditions;
 };
 
 } // namespace softbody

@@ -8,6 +8,7 @@
 #include "softbody/massspring/mass_spring_settings.h"
 #include "softbody/material/mass.h"
 #include "softbody/material/tet_elasticity.h"
+#include "softbody/scene/boundary_conditions.h"
 
 #include <string>
 #include <vector>
@@ -25,7 +26,8 @@ struct MassSpringSetup
   /// The spring network's constants; for a continuum model only its geometry and damping time.
   ElementConstants constants;
   TetElasticConstants tetConstants; ///< the continuum models' (empty for the network)
-  PointMasses masses;
+  PointMasses masses; ///< inverse mass 0 at pinned points and points whose x, y, z are held
+  BoundaryConditions conditions;
   double step = 0.0;       ///< step size advance() uses at most [s]
   double stableStep = 0.0; ///< estimated stable step of scene.integrator [s]; 0 if none
   double omegaMax = 0.0;   ///< highest-frequency bound [rad/s]

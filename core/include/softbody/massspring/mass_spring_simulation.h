@@ -58,6 +58,10 @@ public:
   double mechanicalEnergy() const;
   double elasticEnergy() const override; ///< [J]
 
+  /// Reactions at the held points and each condition's total force and moment, at the
+  /// current state.
+  ConditionReadout conditionReadout() const override;
+
   /// Current over rest volume of each tet (in core's orientation: inverted input tets that
   /// were re-oriented report positive ratios).
   std::vector<double> tetVolumeRatios() const override;
@@ -92,6 +96,9 @@ public:
 
 private:
   class Forces;
+  /// The elastic and damping forces of the body's model at (x, v) [N].
+  void internalForces(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
+    std::vector<Vec3>& forces) const;
   void stepOnce(double h);
   void integrateExplicit(double h);
   void integrateImplicit(double h);
@@ -105,6 +112,7 @@ private:
   ElementConstants Constants;
   TetElasticConstants TetConstants;
   PointMasses Masses;
+  BoundaryConditions Conditions;
   DynamicState State;
   IntegratorScratch IntegratorWork;
   StrainLimitScratch StrainWork;

@@ -52,6 +52,7 @@ public:
   void step(double h, DynamicState& state, StepPlan& plan) override;
 
   const ImplicitConvergence& convergence() const override { return Convergence; }
+  IncrementalPotential& potential() override { return *Potential; }
   /// Wall time of the last factorization [s], and the factor's nonzeros (its memory is about
   /// 12 bytes each).
   double factorSeconds() const { return FactorSeconds; }

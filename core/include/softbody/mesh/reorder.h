@@ -131,6 +131,7 @@ public:
   double totalMass() const override { return Inner->totalMass(); }
   std::vector<double> tetVolumeRatios() const override;
   TetStressField stressField() const override;
+  ConditionReadout conditionReadout() const override;
   double elasticEnergy() const override { return Inner->elasticEnergy(); }
   double stepSize() const override { return Inner->stepSize(); }
   double estimatedStableStep() const override { return Inner->estimatedStableStep(); }

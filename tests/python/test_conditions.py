@@ -1,0 +1,157 @@
+"""python.conditions: loads and boundary conditions through Soft Body Condition, as a pvpython
+user applies them.
+
+1. A bar fixed at x = 0 (a half-space region) and pulled by a force F spread by area over its
+   end face (a box region), Static, Corotated with nu = 0: it stretches by F L / (E A) to 1e-6,
+   the Reaction point array sums to -F and the field data "support Force" is -F, "end load
+   Force" is F.
+2. The patch test on a TetGen cube with rollers: each face holds its normal component, the
+   faces x = 1 and y = 1 moved along their normals (Prescribed Motion, that component only).
+   The exact answer is the homogeneous stretch diag(1.1, 0.95, 1); every interior point lands on
+   it for the finite-element models (the spring network's error printed).
+3. Prescribed Motion with keyframes moves its set exactly where the keys put it at every frame.
+4. Pressure p on the whole surface of the bundled jelly (TetGen) inflates it by p / K with no
+   net force.
+5. Bad conditions: a set from another mesh, PBD with conditions and an empty region, each with a
+   message naming the condition."""
+
+import builtins
+import os
+import tempfile
+
+import numpy as np
+from paraview.simple import *  # noqa: F401,F403
+
+import softbody_testing as sbt
+
+args = sbt.parse_args(__doc__)
+LoadPlugin(args.plugin, remote=False, ns=globals())
+workdir = tempfile.mkdtemp(prefix="softbody_conditions_")
+sbt.check("SoftBodyCondition" in globals(), "LoadPlugin defines SoftBodyCondition()")
+
+# 1. The bar.
+E, FORCE, CELL = 1.0e5, 0.1, 0.01
+LENGTH, SIDE = 10 * CELL, 2 * CELL
+path, rest = sbt.write_tet_box(workdir, 10, 2, 2, CELL)
+bar = XMLUnstructuredGridReader(FileName=[path])
+support = SoftBodyCondition(Input=bar, ConditionName="support", ConditionType="Fixed",
+                            Region="Half-space", PlaneOrigin=[0, 0, 0], PlaneNormal=[-1, 0, 0])
+load = SoftBodyCondition(Input=bar, ConditionName="end load", ConditionType="Force",
+                         Region="Box", BoxPosition=[LENGTH - 1e-6, -1, -1], BoxScale=[1, 3, 3],
+                         Force=[FORCE, 0, 0], ForceSpread="Total, by area")
+body = SoftBody(Input=bar, Conditions=[support, load], MaterialModel="Corotated", Integrator="Static",
+                YoungsModulus=E, PoissonRatio=0.0, Gravity=[0, 0, 0], Floor=0, EndTime=0.1,
+                FrameInterval=0.1, ImplicitTolerance=1e-10)
+mesh = sbt.output_at(body, 0.1)
+x = sbt.points_of(mesh)
+end = rest[:, 0] > LENGTH - 1e-9
+elongation = float(np.mean(x[end, 0] - rest[end, 0]))
+expected = FORCE * LENGTH / (E * SIDE * SIDE)
+print(f"bar: elongation {elongation:.6e} m, F L / (E A) = {expected:.6e} m")
+sbt.check(abs(elongation / expected - 1) < 1e-6, "bar: elongation F L / (E A) to 1e-6")
+reaction = sbt.point_array(mesh, "Reaction")
+sbt.check(abs(reaction[:, 0].sum() + FORCE) < 1e-6 * FORCE, f"bar: Reaction sums to -F ({reaction[:, 0].sum():.9f} N)")
+sbt.check(np.abs(reaction[rest[:, 0] > 1e-9]).max() == 0.0, "bar: free points have no reaction")
+held = mesh.GetFieldData().GetArray("support Force")
+applied = mesh.GetFieldData().GetArray("end load Force")
+sbt.check(held is not None and abs(held.GetTuple3(0)[0] + FORCE) < 1e-6 * FORCE, "bar: field data 'support Force' is -F")
+sbt.check(applied is not None and abs(applied.GetTuple3(0)[0] - FORCE) < 1e-12, "bar: field data 'end load Force' is F")
+sbt.check(mesh.GetFieldData().GetArray("support Moment") is not None, "bar: field data 'support Moment'")
+Delete(body)
+
+# 2. The patch test with rollers on a TetGen cube.
+cube = TetrahedralizeSurfaceTetGen(Input=Triangulate(Input=Box(Center=[0.5, 0.5, 0.5])),
+                                   MaxTetVolume=0.002, MaxTetVolumeIsRelative=0)
+cube.UpdatePipeline()
+stretch = np.array([1.1, 0.95, 1.0])
+rollers = []
+for axis, name in enumerate("xyz"):
+    for side in (0.0, 1.0):
+        normal = [0.0, 0.0, 0.0]
+        normal[axis] = 1.0 if side else -1.0
+        origin = [0.0, 0.0, 0.0]
+        origin[axis] = side
+        held = [0, 0, 0]
+        held[axis] = 1
+        moved = side == 1.0 and stretch[axis] != 1.0
+        translation = [0.0, 0.0, 0.0]
+        translation[axis] = stretch[axis] - 1.0 if moved else 0.0
+        rollers.append(SoftBodyCondition(
+            Input=cube, ConditionName=f"{name}={side:g}", Region="Half-space", PlaneOrigin=origin,
+            PlaneNormal=normal, HeldComponents=held,
+            ConditionType="Prescribed Motion" if moved else "Fixed", Translation=translation))
+for model in ("Corotated", "Stable Neo-Hookean", "Spring Network"):
+    body = SoftBody(Input=cube, Conditions=rollers, MaterialModel=model, Integrator="Static",
+                    YoungsModulus=1e5, PoissonRatio=0.3, Gravity=[0, 0, 0], Floor=0, EndTime=0.1,
+                    FrameInterval=0.1, ImplicitTolerance=1e-10)
+    mesh = sbt.output_at(body, 0.1)
+    x = sbt.points_of(mesh)
+    x0 = x - sbt.point_array(mesh, "Displacement")
+    inside = (x0.min(axis=1) > 1e-9) & (x0.max(axis=1) < 1 - 1e-9)
+    worst = float(np.abs(x[inside] - x0[inside] * stretch).max())
+    print(f"patch test, {model}: {int(inside.sum())} interior points of {len(x)}, worst error {worst:.3e} m")
+    if model != "Spring Network":
+        sbt.check(inside.sum() > 10 and worst < 1e-8, f"patch test, {model}: the interior lands on the map")
+    Delete(body)
+
+# 3. Keyframed prescribed motion.
+path, rest = sbt.write_tet_box(workdir, 3, 3, 3, 0.1)
+box = XMLUnstructuredGridReader(FileName=[path])
+keys = [0.0, 0.0, 0.1, 1.0, 0.25, 0.4]
+drive = SoftBodyCondition(Input=box, ConditionName="drive", ConditionType="Prescribed Motion",
+                          Region="Half-space", PlaneOrigin=[0, 0, 0], PlaneNormal=[0, 0, -1],
+                          Translation=[0.05, -0.02, 0.01], Profile="Keyframes", Keyframes=keys)
+body = SoftBody(Input=box, Conditions=[drive], MaterialModel="Corotated", YoungsModulus=1e4,
+                Floor=0, EndTime=0.3, FrameInterval=0.05)
+bottom = rest[:, 2] < 1e-9
+for t in (0.05, 0.1, 0.2, 0.3):
+    x = sbt.points_of(sbt.output_at(body, t))
+    s = float(np.interp(t, keys[0::2], keys[1::2]))
+    worst = float(np.abs(x[bottom] - (rest[bottom] + s * np.array([0.05, -0.02, 0.01]))).max())
+    sbt.check(worst < 1e-15, f"keyframes: at t = {t} the set is where the keys put it (worst {worst:.1e} m)")
+Delete(body)
+
+# 4. Pressure inflates the jelly.
+jelly = XMLUnstructuredGridReader(FileName=[os.path.join(args.data_dir, "jelly.vtu")])
+gas = SoftBodyCondition(Input=jelly, ConditionName="gas", ConditionType="Pressure",
+                        Region="All points", Pressure=200.0)  # PRESSURE below
+YOUNG, NU, PRESSURE = 1.0e5, 0.3, 200.0
+body = SoftBody(Input=jelly, Conditions=[gas], MaterialModel="Stable Neo-Hookean",
+                YoungsModulus=YOUNG, PoissonRatio=NU, Integrator="Implicit Euler",
+                Gravity=[0, 0, 0], Floor=0, EndTime=1.0, FrameInterval=0.1)
+start = sbt.output_at(body, 0.0)
+mesh = sbt.output_at(body, 1.0)
+ratios = sbt.cell_array(mesh, "VolumeRatio")
+growth = float(ratios.mean()) - 1
+force = mesh.GetFieldData().GetArray("gas Force").GetTuple3(0)
+bulk = YOUNG / (3 * (1 - 2 * NU))
+print(f"jelly: mean volume ratio grows by {growth:.4e} (p / K = {PRESSURE / bulk:.4e}); "
+      f"net pressure force {np.linalg.norm(force):.2e} N")
+sbt.check(abs(growth / (PRESSURE / bulk) - 1) < 0.03, "jelly: pressure inflates it by p / K (hydrostatic tension) within 3 %")
+sbt.check(np.linalg.norm(force) < 1e-9, "jelly: the pressure on a closed surface has no net force")
+Delete(body)
+
+# 5. Bad conditions.
+errors = sbt.ErrorCapture()
+other = SoftBodyCondition(Input=box, ConditionName="elsewhere", Region="All points")
+for label, properties, words in [
+        ("set from another mesh", {"Input": jelly, "Conditions": [other]},
+         ["Condition 'elsewhere'", "is not a point of the body"]),
+        ("PBD", {"Input": jelly, "Conditions": [gas], "Method": "PBD"},
+         ["Method PBD does not take the Conditions", "'gas'"])]:
+    errors.clear()
+    body = SoftBody(EndTime=0.1, FrameInterval=0.1, **properties)
+    out = sbt.output_at(body, 0.1)
+    text = "".join(errors.errors)
+    sbt.check(builtins.all(w in text for w in words), f"{label}: refused naming {words} ({text.strip()[:160]!r})")
+    sbt.check(out is None or out.GetNumberOfPoints() == 0, f"{label}: the output is empty")
+    Delete(body)
+errors.clear()
+nothing = SoftBodyCondition(Input=box, ConditionName="nothing", Region="Sphere", SphereCenter=[9, 9, 9],
+                            SphereRadius=0.1)
+nothing.UpdatePipeline()
+text = "".join(errors.warnings)
+sbt.check("Condition 'nothing': its sphere selects none of the input's" in text,
+          f"empty region: warned by name ({text.strip()[:160]!r})")
+errors.close()
+print("python.conditions: all checks passed")
