@@ -109,7 +109,8 @@ public:
   /**
    * Conditions (input port 3, optional and repeatable): outputs of Soft Body Condition, each a
    * load or boundary condition on a set of the body's points (found by position; see
-   * vtkSoftBodyConditionInput). Mass-Spring only for now.
+   * vtkSoftBodyConditionInput), honoured by every method; reactions are reported by
+   * Mass-Spring (vtkSoftBodyConditionOutput).
    */
   void AddConditionConnection(vtkAlgorithmOutput* output) { this->AddInputConnection(3, output); }
   void RemoveAllConditions() { this->SetInputConnection(3, nullptr); }

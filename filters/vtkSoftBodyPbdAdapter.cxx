@@ -28,6 +28,7 @@ std::unique_ptr<softbody::Simulation> vtkSoftBodyPbdAdapter::Create(
     return nullptr;
   }
   body.density = coreSettings.PbdDensity;
+  body.conditions = coreSettings.Conditions;
   body.massDistribution = coreSettings.PbdMassDistribution;
   softbody::PbdSettings settings = coreSettings.Pbd;
   // A Soft Body Voxelize lattice says how large its particles are: they then rest on the floor

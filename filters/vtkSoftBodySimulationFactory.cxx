@@ -115,14 +115,6 @@ bool vtkSoftBodySimulationFactory::Build(vtkUnstructuredGrid* input,
   if (settings.Method == vtkSoftBodyParameters::PBD ||
     settings.Method == vtkSoftBodyParameters::XPBD)
   {
-    if (!settings.Conditions.empty())
-    {
-      error = "Method " + std::string(settings.Method == vtkSoftBodyParameters::PBD ? "PBD" : "XPBD") +
-        " does not take the Conditions input yet (" + std::to_string(settings.Conditions.size()) +
-        " connected, the first '" + settings.Conditions.front().name +
-        "'). Use Method Mass-Spring, or hold points with PinnedPointsArray.";
-      return false;
-    }
     built.Simulation = built.PbdAdapter.Create(settings, input, error, built.Pbd);
     return built.Simulation != nullptr;
   }

@@ -12,8 +12,9 @@ user applies them.
 3. Prescribed Motion with keyframes moves its set exactly where the keys put it at every frame.
 4. Pressure p on the whole surface of the bundled jelly (TetGen) inflates it by p / K with no
    net force.
-5. Bad conditions: a set from another mesh, PBD with conditions and an empty region, each with a
-   message naming the condition."""
+   Prescribed Motion and keyframes hold under Mass-Spring, XPBD and PBD alike.
+5. Bad conditions: a set from another mesh, a pressure on a set with no boundary face, an empty
+   region, each with a message naming the condition."""
 
 import builtins
 import os
@@ -101,15 +102,17 @@ keys = [0.0, 0.0, 0.1, 1.0, 0.25, 0.4]
 drive = SoftBodyCondition(Input=box, ConditionName="drive", ConditionType="Prescribed Motion",
                           Region="Half-space", PlaneOrigin=[0, 0, 0], PlaneNormal=[0, 0, -1],
                           Translation=[0.05, -0.02, 0.01], Profile="Keyframes", Keyframes=keys)
-body = SoftBody(Input=box, Conditions=[drive], MaterialModel="Corotated", YoungsModulus=1e4,
-                Floor=0, EndTime=0.3, FrameInterval=0.05)
 bottom = rest[:, 2] < 1e-9
-for t in (0.05, 0.1, 0.2, 0.3):
-    x = sbt.points_of(sbt.output_at(body, t))
-    s = float(np.interp(t, keys[0::2], keys[1::2]))
-    worst = float(np.abs(x[bottom] - (rest[bottom] + s * np.array([0.05, -0.02, 0.01]))).max())
-    sbt.check(worst < 1e-15, f"keyframes: at t = {t} the set is where the keys put it (worst {worst:.1e} m)")
-Delete(body)
+for method in ("Mass-Spring", "XPBD", "PBD"):
+    model = "Corotated" if method == "Mass-Spring" else "Spring Network"
+    body = SoftBody(Input=box, Conditions=[drive], Method=method, MaterialModel=model,
+                    YoungsModulus=1e4, Floor=0, EndTime=0.3, FrameInterval=0.05)
+    for t in (0.05, 0.1, 0.2, 0.3):
+        x = sbt.points_of(sbt.output_at(body, t))
+        s = float(np.interp(t, keys[0::2], keys[1::2]))
+        worst = float(np.abs(x[bottom] - (rest[bottom] + s * np.array([0.05, -0.02, 0.01]))).max())
+        sbt.check(worst < 1e-15, f"keyframes, {method}: at t = {t} the set is where the keys put it (worst {worst:.1e} m)")
+    Delete(body)
 
 # 4. Pressure inflates the jelly.
 jelly = XMLUnstructuredGridReader(FileName=[os.path.join(args.data_dir, "jelly.vtu")])
@@ -137,8 +140,10 @@ other = SoftBodyCondition(Input=box, ConditionName="elsewhere", Region="All poin
 for label, properties, words in [
         ("set from another mesh", {"Input": jelly, "Conditions": [other]},
          ["Condition 'elsewhere'", "is not a point of the body"]),
-        ("PBD", {"Input": jelly, "Conditions": [gas], "Method": "PBD"},
-         ["Method PBD does not take the Conditions", "'gas'"])]:
+        ("pressure on no face", {"Input": box, "Conditions": [SoftBodyCondition(
+            Input=box, ConditionName="lid", ConditionType="Pressure", Region="Sphere",
+            SphereCenter=[0, 0, 0], SphereRadius=0.01, Pressure=10.0)]},
+         ["Condition 'lid' (Pressure)", "none of the body's boundary faces"])]:
     errors.clear()
     body = SoftBody(EndTime=0.1, FrameInterval=0.1, **properties)
     out = sbt.output_at(body, 0.1)

@@ -68,6 +68,13 @@ PbdBody reorderParticles(const PbdBody& body, const Reordering& reordering)
   }
   stored.pointMass = toStorageOrder(body.pointMass, reordering.vertexOrder);
   stored.pinned = toStorageOrder(body.pinned, reordering.vertexOrder);
+  for (Condition& c : stored.conditions)
+  {
+    for (std::int32_t& p : c.points)
+    {
+      p = slot[static_cast<std::size_t>(p)];
+    }
+  }
   return stored;
 }
 

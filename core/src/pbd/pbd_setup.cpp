@@ -209,13 +209,23 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   {
     throw InvalidInputError("The pinned-points array must have one value per point.");
   }
+  double bodyMass = 0.0;
+  for (double m : mass)
+  {
+    bodyMass += m;
+  }
+  // Points whose x, y and z a condition holds are kinematic (inverse mass 0), moved each
+  // substep to where the condition puts them.
+  Conditions = BoundaryConditions(std::move(body.conditions), body.points, topology.tets, bodyMass, Warnings);
+  Conditions.setMasses(mass);
+  const std::vector<char> held = Conditions.fullyHeld();
   InverseMass.assign(n, 0.0);
   Movable.assign(n, 1);
   for (std::size_t i = 0; i < n; ++i)
   {
     TotalMass += mass[i];
     const bool pinned = !body.pinned.empty() && body.pinned[i] != 0;
-    if (mass[i] > 0.0 && !(pinned && hardPins))
+    if (mass[i] > 0.0 && !(pinned && hardPins) && !held[i])
     {
       InverseMass[i] = 1.0 / mass[i];
     }
@@ -259,6 +269,7 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   Rest = std::move(body.points);
   State.positions = Rest;
   State.velocities.assign(n, Vec3::Zero());
+  Conditions.holdPoints(0.0, State.positions, State.velocities);
   labelBodies();
   setUpCollisions(topology.tets, body.surfaceTriangles);
   replan();

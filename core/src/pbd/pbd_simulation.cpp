@@ -88,6 +88,13 @@ void PbdSimulation::predict(double h)
   const bool verlet = Settings.prediction == PbdPrediction::Verlet;
   Predicted.resize(State.positions.size());
   VelocityBefore.resize(State.positions.size());
+  // The conditions' loads at the substep's start, as external accelerations.
+  const bool loads = Conditions.hasLoads();
+  if (loads)
+  {
+    LoadForce.assign(State.positions.size(), Vec3::Zero());
+    Conditions.addLoads(SubstepTime, State.positions, LoadForce);
+  }
   parallelFor(State.positions.size(), 1024, [&](std::size_t i) {
     const Vec3& x = State.positions[i];
     if (InverseMass[i] == 0.0)
@@ -96,23 +103,36 @@ void PbdSimulation::predict(double h)
       VelocityBefore[i].setZero();
       return;
     }
+    const Vec3 a = loads ? Vec3(g + InverseMass[i] * LoadForce[i]) : g;
     if (verlet)
     {
       // Position Verlet: the drift is the last step's displacement over h (stored as the
       // velocity), the acceleration enters as h^2 a.
-      Predicted[i] = x + keep * h * State.velocities[i] + (h * h) * g;
+      Predicted[i] = x + keep * h * State.velocities[i] + (h * h) * a;
       VelocityBefore[i] = (Predicted[i] - x) / h;
     }
     else
     {
-      const Vec3 v = keep * (State.velocities[i] + h * g);
+      const Vec3 v = keep * (State.velocities[i] + h * a);
       VelocityBefore[i] = v;
       Predicted[i] = x + h * v;
     }
   });
+  holdPredicted(h);
   std::fill(Links.lambda.begin(), Links.lambda.end(), 0.0);
   std::fill(Volumes.lambda.begin(), Volumes.lambda.end(), 0.0);
   std::fill(Attachments.lambda.begin(), Attachments.lambda.end(), 0.0);
+}
+
+void PbdSimulation::holdPredicted(double h)
+{
+  // Held components where their conditions put them at the substep's end, before the
+  // constraints see them (and again after: a roller's free components move, its held ones not).
+  if (!Conditions.heldAxes().empty())
+  {
+    HeldVelocity.resize(Predicted.size());
+    Conditions.holdPoints(SubstepTime + h, Predicted, HeldVelocity);
+  }
 }
 
 void PbdSimulation::projectAll(Stage stage)
@@ -241,11 +261,13 @@ void PbdSimulation::substep(double h, bool recordResiduals)
     detectContacts(h);
   }
   solve(recordResiduals);
+  holdPredicted(h);
   updateVelocities(h);
   if (Plan.runs(Stage::ContactResponse))
   {
     applyContactResponse(h);
   }
+  Conditions.holdPoints(SubstepTime + h, State.positions, State.velocities);
   if (Plan.runs(Stage::UpdateLinks))
   {
     updateLinks(h);

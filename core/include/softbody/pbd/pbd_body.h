@@ -1,9 +1,10 @@
 // The body a PBD/XPBD simulation is built from: particles, tets and explicit links, masses
-// and pins.
+// pins and conditions.
 #pragma once
 
 #include "softbody/common/geometry.h"
 #include "softbody/material/material.h" // MassDistribution
+#include "softbody/scene/conditions.h"
 
 #include <array>
 #include <cstdint>
@@ -29,6 +30,9 @@ struct PbdBody
   /// two-sided. Tet bodies collide through their boundary faces, found at set-up; points in
   /// neither a tet nor one of these collide as spheres of PbdSettings::particleRadius.
   std::vector<std::array<std::int32_t, 3>> surfaceTriangles;
+  /// Loads and boundary conditions on sets of the points: held components are kinematic
+  /// (moved where their condition says, each substep), loads external forces.
+  std::vector<Condition> conditions;
 };
 
 } // namespace softbody

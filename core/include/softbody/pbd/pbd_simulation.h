@@ -87,6 +87,8 @@ private:
   void substep(double h, bool recordResiduals);
   void prepareParameters(double h);
   void predict(double h);
+  /// Puts the held components of the predicted positions where their conditions say.
+  void holdPredicted(double h);
   void solve(bool recordResiduals);
   void sweep();
   void projectAll(Stage stage);
@@ -127,6 +129,8 @@ private:
 
   PbdSettings Settings;
   std::vector<Vec3> Rest;
+  BoundaryConditions Conditions; ///< loads and held points (scene/boundary_conditions.h)
+  std::vector<Vec3> LoadForce, HeldVelocity; ///< per substep [N]; unused velocities
   std::vector<double> InverseMass;
   std::vector<char> Movable;
   std::vector<std::int32_t> BodyOf; ///< point -> connected body (links and tet edges)

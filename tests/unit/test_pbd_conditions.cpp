@@ -1,0 +1,124 @@
+// Loads and boundary conditions in PBD and XPBD: prescribed points are kinematic and follow
+// their keyframes exactly, a roller leaves its free components to the dynamics, and a force
+// moves the centre of mass at F / M (the constraints conserve momentum), as in the mass-spring
+// stepper (test_conditions.cpp).
+#include "softbody/pbd/pbd_simulation.h"
+#include "pbd_test_bodies.h"
+
+#include <gtest/gtest.h>
+
+using namespace softbody;
+
+namespace
+{
+
+PbdSettings settingsOf(PbdFormulation formulation, const Vec3& gravity)
+{
+  PbdSettings settings;
+  settings.formulation = formulation;
+  settings.gravity = gravity;
+  settings.collisions.mode = CollisionMode::Off;
+  settings.timeStep = 1e-3;
+  return settings;
+}
+
+template <class Select>
+std::vector<std::int32_t> setWhere(const std::vector<Vec3>& points, Select&& select)
+{
+  std::vector<std::int32_t> set;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    if (select(points[i]))
+    {
+      set.push_back(static_cast<std::int32_t>(i));
+    }
+  }
+  return set;
+}
+
+constexpr PbdFormulation kBoth[] = { PbdFormulation::Pbd, PbdFormulation::Xpbd };
+
+} // namespace
+
+TEST(PbdConditions, PrescribedPointsFollowTheirKeyframesExactly)
+{
+  for (PbdFormulation formulation : kBoth)
+  {
+    PbdBody body = test::pbdBoxBody(3, 0.1);
+    Condition drive;
+    drive.name = "drive";
+    drive.kind = ConditionKind::Prescribed;
+    drive.points = setWhere(body.points, [](const Vec3& p) { return p.z() < 1e-9; });
+    drive.translation = Vec3(0.05, -0.02, 0.01);
+    drive.rotationCenter = Vec3(0.15, 0.15, 0.0);
+    drive.rotationAngle = 0.3;
+    drive.profile.shape = TimeProfileShape::Keyframes;
+    drive.profile.times = { 0.0, 0.1, 0.25 };
+    drive.profile.factors = { 0.0, 1.0, 0.4 };
+    body.conditions.push_back(drive);
+    const std::vector<Vec3> rest = body.points;
+    PbdSimulation sim(body, settingsOf(formulation, Vec3(0, 0, -9.81)));
+    for (double t : { 0.05, 0.1, 0.2, 0.3 })
+    {
+      sim.advance(t);
+      const double s = drive.profile.at(t);
+      const Eigen::AngleAxisd turn(s * drive.rotationAngle, Vec3::UnitZ());
+      double worst = 0.0;
+      for (std::int32_t p : drive.points)
+      {
+        const Vec3& x0 = rest[static_cast<std::size_t>(p)];
+        const Vec3 want = drive.rotationCenter + turn * (x0 - drive.rotationCenter) + s * drive.translation;
+        worst = std::max(worst, (sim.positions()[static_cast<std::size_t>(p)] - want).norm());
+      }
+      EXPECT_LT(worst, 1e-15) << "t = " << t;
+    }
+  }
+}
+
+TEST(PbdConditions, RollerHoldsOnlyItsComponent)
+{
+  for (PbdFormulation formulation : kBoth)
+  {
+    PbdBody body = test::pbdBoxBody(2, 0.1);
+    Condition roller;
+    roller.name = "roller";
+    roller.points = setWhere(body.points, [](const Vec3&) { return true; });
+    roller.heldAxes = { false, false, true };
+    body.conditions.push_back(roller);
+    const std::vector<Vec3> rest = body.points;
+    PbdSimulation sim(body, settingsOf(formulation, Vec3(-2.0, 0.0, -9.81)));
+    sim.advance(0.5);
+    double zMoved = 0.0, xDrop = 0.0;
+    for (std::size_t i = 0; i < rest.size(); ++i)
+    {
+      zMoved = std::max(zMoved, std::abs(sim.positions()[i].z() - rest[i].z()));
+      xDrop += (rest[i].x() - sim.positions()[i].x()) / static_cast<double>(rest.size());
+    }
+    EXPECT_EQ(zMoved, 0.0);
+    EXPECT_NEAR(xDrop, 0.25, 0.01 * 0.25);
+  }
+}
+
+TEST(PbdConditions, ForceMovesTheCentreOfMassAtFOverM)
+{
+  for (PbdFormulation formulation : kBoth)
+  {
+    PbdBody body = test::pbdBoxBody(2, 0.1);
+    Condition push;
+    push.name = "push";
+    push.kind = ConditionKind::Force;
+    push.spread = ForceSpread::PerPoint;
+    push.points = setWhere(body.points, [](const Vec3& p) { return p.x() < 1e-9; });
+    const Vec3 total(3.0, 0.0, 1.0);
+    push.force = total / static_cast<double>(push.points.size());
+    body.conditions.push_back(push);
+    PbdSimulation sim(body, settingsOf(formulation, Vec3::Zero()));
+    sim.advance(0.2);
+    Vec3 momentum = Vec3::Zero();
+    for (std::size_t i = 0; i < sim.velocities().size(); ++i)
+    {
+      momentum += sim.velocities()[i] / sim.inverseMasses()[i];
+    }
+    EXPECT_LT((momentum - 0.2 * total).norm(), 1e-9 * 0.2 * total.norm());
+  }
+}
