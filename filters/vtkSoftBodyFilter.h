@@ -278,6 +278,20 @@ public:
 
   ///@{
   /**
+   * The initial state (every method): a uniform InitialVelocity [m/s] plus a spin
+   * InitialAngularVelocity [rad/s] about the body's centre of mass, plus a point array
+   * InitialVelocityArray [m/s]; and a start from a deformed state, rest + the point array
+   * InitialDisplacementArray [m] (a saved frame's Displacement restarts a run where it stopped).
+   * Held and pinned points keep their condition's state. "None" (default): none.
+   */
+  vtkSoftBodyVector3ParameterMacro(InitialVelocity);
+  vtkSoftBodyVector3ParameterMacro(InitialAngularVelocity);
+  vtkSoftBodyStringParameterMacro(InitialVelocityArray);
+  vtkSoftBodyStringParameterMacro(InitialDisplacementArray);
+  ///@}
+
+  ///@{
+  /**
    * MaterialModel (Mass-Spring): SPRING_NETWORK (default, the thesis's springs and volumes),
    * or the finite-element tets COROTATED and STABLE_NEO_HOOKEAN, whose YoungsModulus and
    * PoissonRatio (-1 < nu < 0.5) mean what they mean in a paper. The Mesh output then carries

@@ -98,6 +98,10 @@ struct vtkSoftBodyParameters
   double FloorOrigin[3] = { 0.0, 0.0, 0.0 };
   double FloorNormal[3] = { 0.0, 0.0, 1.0 };
   std::string PinnedPointsArray;
+  double InitialVelocity[3] = { 0.0, 0.0, 0.0 };
+  double InitialAngularVelocity[3] = { 0.0, 0.0, 0.0 };
+  std::string InitialVelocityArray;
+  std::string InitialDisplacementArray;
   int MaterialModel = SPRING_NETWORK;
   int MaterialMode = PHYSICAL;
   double YoungsModulus = 1.0e5;

@@ -289,6 +289,18 @@ vtkSoftBodyCoreSettings vtkSoftBodySettings::Convert(const vtkSoftBodyFilter::Pa
   const auto arrayName = [](const std::string& name) {
     return vtkSoftBodyInputConversion::IsNoArray(name) ? std::string() : name;
   };
+  settings.Initial.velocity = ToVec3(p.InitialVelocity);
+  settings.Initial.spin = ToVec3(p.InitialAngularVelocity);
+  if (!settings.Initial.velocity.allFinite() || !settings.Initial.spin.allFinite())
+  {
+    throw softbody::InvalidInputError("InitialVelocity and InitialAngularVelocity must be finite, got (" +
+      std::to_string(p.InitialVelocity[0]) + ", " + std::to_string(p.InitialVelocity[1]) + ", " +
+      std::to_string(p.InitialVelocity[2]) + ") m/s and (" + std::to_string(p.InitialAngularVelocity[0]) +
+      ", " + std::to_string(p.InitialAngularVelocity[1]) + ", " +
+      std::to_string(p.InitialAngularVelocity[2]) + ") rad/s.");
+  }
+  settings.Initial.velocityArray = arrayName(p.InitialVelocityArray);
+  settings.Initial.displacementArray = arrayName(p.InitialDisplacementArray);
   if (settings.Method == vtkSoftBodyFilter::MASS_SPRING)
   {
     ConvertMassSpring(p, settings);

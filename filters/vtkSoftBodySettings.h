@@ -32,6 +32,14 @@ struct vtkSoftBodyCoreSettings
   std::string PinnedPointsArray;              ///< empty: nothing pinned
   /// Cell arrays of per-cell YoungsModulus, PoissonRatio, Density (Mass-Spring); empty: uniform.
   std::string YoungsModulusArray, PoissonRatioArray, DensityArray;
+  /// The initial state (vtkSoftBodyInitialState); empty array names: none.
+  struct InitialState
+  {
+    softbody::Vec3 velocity{ 0.0, 0.0, 0.0 }; ///< [m/s]
+    softbody::Vec3 spin{ 0.0, 0.0, 0.0 };     ///< [rad/s] about the centre of mass
+    std::string velocityArray, displacementArray;
+    bool operator==(const InitialState&) const = default;
+  } Initial;
   /// The Conditions input on the body (vtkSoftBodyConditionInput), in its point numbers.
   std::vector<softbody::Condition> Conditions;
 

@@ -1,5 +1,7 @@
 #include "vtkSoftBodySimulationFactory.h"
 
+#include "vtkSoftBodyInitialState.h"
+
 #include "vtkSoftBodyInputConversion.h"
 #include "vtkSoftBodySettings.h"
 
@@ -112,11 +114,14 @@ bool vtkSoftBodySimulationFactory::Build(vtkUnstructuredGrid* input,
   const vtkSoftBodyCoreSettings& settings, bool withObstacles, const WarningSink& warn,
   vtkSoftBodyBuiltSimulation& built, std::string& error)
 {
-  if (settings.Method == vtkSoftBodyParameters::PBD ||
-    settings.Method == vtkSoftBodyParameters::XPBD)
+  const bool made = settings.Method == vtkSoftBodyParameters::PBD ||
+      settings.Method == vtkSoftBodyParameters::XPBD
+    ? (built.Simulation = built.PbdAdapter.Create(settings, input, error, built.Pbd)) != nullptr
+    : BuildMassSpring(input, settings, withObstacles, warn, built, error);
+  if (!made)
   {
-    built.Simulation = built.PbdAdapter.Create(settings, input, error, built.Pbd);
-    return built.Simulation != nullptr;
+    return false;
   }
-  return BuildMassSpring(input, settings, withObstacles, warn, built, error);
+  error = vtkSoftBodyInitialState::Apply(input, settings.Initial, *built.Simulation);
+  return error.empty();
 }
