@@ -2,11 +2,13 @@
 
 #include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkCellType.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkNew.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
@@ -98,6 +100,46 @@ int vtkSoftBodyTetMeshOutput::ReadFile(vtkAlgorithm* reader, const std::string& 
   skipped->SetName("SkippedElements");
   skipped->InsertNextValue(static_cast<vtkIdType>(info.skippedElements));
   output->GetFieldData()->AddArray(skipped);
+  AddGroups(info, output);
   reader->UpdateProgress(1.0);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftBodyTetMeshOutput::AddGroups(const softbody::MeshFileInfo& info, vtkUnstructuredGrid* output)
+{
+  const auto cellArray = [&](const char* name, const std::vector<long long>& tags) {
+    if (static_cast<vtkIdType>(tags.size()) != output->GetNumberOfCells())
+    {
+      return;
+    }
+    vtkNew<vtkIdTypeArray> array;
+    array->SetName(name);
+    array->SetNumberOfValues(static_cast<vtkIdType>(tags.size()));
+    for (std::size_t c = 0; c < tags.size(); ++c)
+    {
+      array->SetValue(static_cast<vtkIdType>(c), static_cast<vtkIdType>(tags[c]));
+    }
+    output->GetCellData()->AddArray(array);
+  };
+  cellArray("GmshPhysical", info.tetPhysicalTag);
+  cellArray("GmshEntity", info.tetEntityTag);
+  // Each physical group as a point array named after it (1 on its nodes): a Soft Body
+  // Condition's Selection Array, or a Pinned Points Array, as it is.
+  for (const softbody::MeshGroup& group : info.groups)
+  {
+    std::string name = group.name;
+    if (output->GetPointData()->GetArray(name.c_str()))
+    {
+      name += " (" + std::to_string(group.dimension) + "D)"; // the same name in two dimensions
+    }
+    vtkNew<vtkUnsignedCharArray> flags;
+    flags->SetName(name.c_str());
+    flags->SetNumberOfValues(static_cast<vtkIdType>(group.points.size()));
+    for (std::size_t i = 0; i < group.points.size(); ++i)
+    {
+      flags->SetValue(static_cast<vtkIdType>(i), static_cast<unsigned char>(group.points[i]));
+    }
+    output->GetPointData()->AddArray(flags);
+  }
 }

@@ -30,6 +30,11 @@ public:
   /// style) and return 0; success returns 1.
   static int ReadFile(vtkAlgorithm* reader, const std::string& fileName, Loader load,
     vtkUnstructuredGrid* output);
+
+  /// The file's groups (Gmsh): cell arrays GmshPhysical and GmshEntity (the tags of each tet's
+  /// volume element, 0 = none) and one point array per physical group, named after it, 1 on
+  /// the nodes of its elements (points, lines, surfaces or volumes).
+  static void AddGroups(const softbody::MeshFileInfo& info, vtkUnstructuredGrid* output);
 };
 
 #endif

@@ -559,3 +559,35 @@ TEST_F(MeshFiles, TetGenReportIsInTheMessageNotOnStdout)
   EXPECT_EQ(printed, 0L) << "TetGen wrote to stdout";
   EXPECT_NE(msg.find("TetGen said: 'Error:  Point 2 has no y coordinate.'"), std::string::npos) << msg;
 }
+
+TEST(GmshGroups, PhysicalGroupsAndEntitiesAreKeptInBothFormats)
+{
+  // Two tets of physical volume 7 "body" (entity 3); one boundary triangle of physical surface
+  // 5 "clamp" (entity 2) over nodes 1, 2, 3; a point in an unnamed physical group 9.
+  const std::string nodes22 = "$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n$EndNodes\n";
+  const std::string v22 = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+                          "$PhysicalNames\n2\n2 5 \"clamp\"\n3 7 \"soft body\"\n$EndPhysicalNames\n" +
+    nodes22 +
+    "$Elements\n4\n1 2 2 5 2 1 2 3\n2 4 2 7 3 1 2 3 4\n3 4 2 7 3 2 3 4 5\n4 15 2 9 1 5\n$EndElements\n";
+  const std::string v41 = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+                          "$PhysicalNames\n2\n2 5 \"clamp\"\n3 7 \"soft body\"\n$EndPhysicalNames\n"
+                          "$Entities\n1 0 1 1\n1 1 1 1 1 9\n2 0 0 0 1 1 0 1 5 0\n3 0 0 0 1 1 1 1 7 0\n$EndEntities\n"
+                          "$Nodes\n1 5 1 5\n3 3 0 5\n1\n2\n3\n4\n5\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n$EndNodes\n"
+                          "$Elements\n3 4 1 4\n2 2 2 1\n1 1 2 3\n3 3 4 2\n2 1 2 3 4\n3 2 3 4 5\n0 1 15 1\n4 5\n$EndElements\n";
+  for (const std::string& text : { v22, v41 })
+  {
+    std::istringstream in(text);
+    MeshFileInfo info;
+    const TetMesh mesh = readGmshMesh(in, "groups.msh", &info);
+    ASSERT_EQ(mesh.tets.size(), 2u) << info.format;
+    EXPECT_EQ(info.tetPhysicalTag, (std::vector<long long>{ 7, 7 })) << info.format;
+    EXPECT_EQ(info.tetEntityTag, (std::vector<long long>{ 3, 3 })) << info.format;
+    ASSERT_EQ(info.groups.size(), 3u) << info.format;
+    EXPECT_EQ(info.groups[0].name, "Physical 0D 9");
+    EXPECT_EQ(info.groups[0].points, (std::vector<char>{ 0, 0, 0, 0, 1 }));
+    EXPECT_EQ(info.groups[1].name, "clamp");
+    EXPECT_EQ(info.groups[1].points, (std::vector<char>{ 1, 1, 1, 0, 0 })) << info.format;
+    EXPECT_EQ(info.groups[2].name, "soft body");
+    EXPECT_EQ(info.groups[2].points, (std::vector<char>{ 1, 1, 1, 1, 1 }));
+  }
+}

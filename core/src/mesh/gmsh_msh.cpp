@@ -129,6 +129,26 @@ void splitCell(const CellShape& shape, const std::int32_t* corner, std::vector<T
   }
 }
 
+/// The dimension of a Gmsh element type (points 0, lines 1, surfaces 2, volumes 3, linear and
+/// higher order); -1 for a type this reader does not know.
+int elementDimension(long long type)
+{
+  switch (type)
+  {
+    case 15:
+      return 0;
+    case 1: case 8: case 26: case 27: case 28:
+      return 1;
+    case 2: case 3: case 9: case 10: case 16: case 20: case 21: case 22: case 23: case 24: case 25:
+      return 2;
+    case 4: case 5: case 6: case 7: case 11: case 12: case 13: case 14: case 17: case 18: case 19:
+    case 29: case 30: case 31: case 92: case 93:
+      return 3;
+    default:
+      return -1;
+  }
+}
+
 class MshParser
 {
 public:
@@ -153,11 +173,50 @@ private:
   std::size_t Skipped = 0;
   std::map<long long, std::size_t> Split;       ///< Gmsh type -> cells split into tets
   std::map<long long, std::size_t> HigherOrder; ///< Gmsh type -> refused cells
+  // Physical groups and elementary entities. The element being read: its entity and physical
+  // tags (format 4.1: those of its block's entity, from $Entities).
+  long long EntityTag = 0;
+  std::vector<long long> PhysicalTags;
+  int Dimension = 0;
+  std::map<std::pair<int, long long>, std::vector<long long>> EntityPhysicals; ///< 4.1 $Entities
+  std::map<std::pair<int, long long>, std::string> PhysicalNames;
+  std::map<std::pair<int, long long>, std::vector<std::int32_t>> GroupNodes; ///< (dim, tag)
+  std::vector<long long> TetPhysical, TetEntity;
+
+  /// The nodes of the element line from token `first` on belong to its physical groups.
+  void recordGroups(std::size_t first)
+  {
+    for (long long physical : this->PhysicalTags)
+    {
+      std::vector<std::int32_t>& nodes = this->GroupNodes[{ this->Dimension, physical }];
+      for (std::size_t t = first; t < this->Tokens.size(); ++t)
+      {
+        nodes.push_back(this->node(t));
+      }
+    }
+  }
+  /// The tets the element added carry its tags.
+  void tagTets()
+  {
+    const long long physical = this->PhysicalTags.empty() ? 0 : this->PhysicalTags.front();
+    this->TetPhysical.resize(this->Mesh.tets.size(), physical);
+    this->TetEntity.resize(this->Mesh.tets.size(), this->EntityTag);
+  }
 
   /// A cell of `type` whose first node is token `firstNodeToken`: a tet is stored, a hexahedron,
   /// prism or pyramid split, a higher-order volume cell counted for the refusal, anything
   /// else (points, lines, surfaces) skipped. The line must hold exactly the cell's nodes.
   void addCell(long long type, std::size_t firstNodeToken)
+  {
+    this->addShape(type, firstNodeToken);
+    this->tagTets();
+    if (this->Dimension >= 0)
+    {
+      this->recordGroups(firstNodeToken);
+    }
+  }
+
+  void addShape(long long type, std::size_t firstNodeToken)
   {
     if (type == 4)
     {
@@ -337,7 +396,13 @@ private:
   void readElements2();
   void readNodes4();
   void readElements4();
+  void readEntities4();
+  void readPhysicalNames();
   void skipSection(const std::string& name);
+
+public:
+  /// The physical groups that have elements, and the tets' tags, into `info`.
+  void reportGroups(MeshFileInfo& info) const;
 };
 
 void MshParser::readFormat()
@@ -390,6 +455,16 @@ void MshParser::readElements2()
     const long long type = this->integer(1, "element type");
     const std::size_t tags = this->count(2, "number of element tags");
     this->integer(0, "element tag");
+    if (this->Tokens.size() < 3 + tags)
+    {
+      this->fail("an element line announces " + std::to_string(tags) + " tags but has fewer numbers: '" +
+        printableExcerpt(this->Line) + "'.");
+    }
+    // Tags: the physical group (0: none), then the elementary entity.
+    const long long physical = tags >= 1 ? this->integer(3, "physical tag") : 0;
+    this->PhysicalTags.assign(physical != 0 ? 1 : 0, physical);
+    this->EntityTag = tags >= 2 ? this->integer(4, "elementary tag") : 0;
+    this->Dimension = elementDimension(type);
     this->addCell(type, 3 + tags);
   }
   this->expectEnd("$EndElements");
@@ -452,6 +527,10 @@ void MshParser::readElements4()
   for (std::size_t b = 0; b < blocks; ++b)
   {
     this->requireTokens("an element block header", 4);
+    this->Dimension = static_cast<int>(this->integer(0, "entity dimension"));
+    this->EntityTag = this->integer(1, "entity tag");
+    const auto physicals = this->EntityPhysicals.find({ this->Dimension, this->EntityTag });
+    this->PhysicalTags = physicals != this->EntityPhysicals.end() ? physicals->second : std::vector<long long>{};
     const long long type = this->integer(2, "element type");
     const std::size_t n = this->count(3, "number of elements in block");
     if (seen + n > total)
@@ -473,6 +552,83 @@ void MshParser::readElements4()
       " elements, the blocks hold " + std::to_string(seen) + ".");
   }
   this->expectEnd("$EndElements");
+}
+
+void MshParser::readPhysicalNames()
+{
+  // numPhysicalNames, then: dimension physicalTag "name" (the name may hold blanks).
+  this->requireTokens("$PhysicalNames header", 1);
+  const std::size_t n = this->count(0, "physical name count");
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    this->requireTokens("a physical name line (dimension tag \"name\")", 3, true);
+    const int dimension = static_cast<int>(this->integer(0, "dimension"));
+    const long long tag = this->integer(1, "physical tag");
+    const std::size_t open = this->Line.find('"'), close = this->Line.rfind('"');
+    if (open == std::string::npos || close <= open)
+    {
+      this->fail("a physical name must be quoted: '" + printableExcerpt(this->Line) + "'.");
+    }
+    this->PhysicalNames[{ dimension, tag }] = this->Line.substr(open + 1, close - open - 1);
+  }
+  this->expectEnd("$EndPhysicalNames");
+}
+
+void MshParser::readEntities4()
+{
+  // numPoints numCurves numSurfaces numVolumes; a point: tag x y z numPhysicalTags tags...;
+  // a curve, surface or volume: tag minX minY minZ maxX maxY maxZ numPhysicalTags tags... then
+  // its bounding entities (not needed here).
+  this->requireTokens("$Entities header", 4);
+  std::array<std::size_t, 4> counts{};
+  for (std::size_t d = 0; d < 4; ++d)
+  {
+    counts[d] = this->count(d, "entity count");
+  }
+  for (int dimension = 0; dimension < 4; ++dimension)
+  {
+    const std::size_t physicalAt = dimension == 0 ? 4 : 7;
+    for (std::size_t i = 0; i < counts[static_cast<std::size_t>(dimension)]; ++i)
+    {
+      this->requireTokens("an entity line", physicalAt + 1, true);
+      const long long tag = this->integer(0, "entity tag");
+      const std::size_t n = this->count(physicalAt, "number of physical tags");
+      if (this->Tokens.size() < physicalAt + 1 + n)
+      {
+        this->fail("an entity line announces " + std::to_string(n) + " physical tags but has fewer numbers.");
+      }
+      std::vector<long long>& physicals = this->EntityPhysicals[{ dimension, tag }];
+      for (std::size_t k = 0; k < n; ++k)
+      {
+        // Gmsh writes a negative tag for a group whose orientation is reversed: same group.
+        physicals.push_back(std::abs(this->integer(physicalAt + 1 + k, "physical tag")));
+      }
+    }
+  }
+  this->expectEnd("$EndEntities");
+}
+
+void MshParser::reportGroups(MeshFileInfo& info) const
+{
+  info.tetPhysicalTag = this->TetPhysical;
+  info.tetEntityTag = this->TetEntity;
+  info.groups.clear();
+  for (const auto& [key, nodes] : this->GroupNodes)
+  {
+    MeshGroup group;
+    group.dimension = key.first;
+    group.tag = key.second;
+    const auto named = this->PhysicalNames.find(key);
+    group.name = named != this->PhysicalNames.end() && !named->second.empty()
+      ? named->second
+      : "Physical " + std::to_string(key.first) + "D " + std::to_string(key.second);
+    group.points.assign(this->Mesh.points.size(), 0);
+    for (std::int32_t p : nodes)
+    {
+      group.points[static_cast<std::size_t>(p)] = 1;
+    }
+    info.groups.push_back(std::move(group));
+  }
 }
 
 void MshParser::skipSection(const std::string& name)
@@ -535,6 +691,14 @@ TetMesh MshParser::parse(MeshFileInfo* info)
       this->Version4 ? this->readElements4() : this->readElements2();
       this->SeenElements = true;
     }
+    else if (section == "$PhysicalNames")
+    {
+      this->readPhysicalNames();
+    }
+    else if (section == "$Entities" && this->Version4)
+    {
+      this->readEntities4();
+    }
     else if (section.rfind("$End", 0) == 0)
     {
       this->fail("unexpected " + printableExcerpt(section) + " outside its section.");
@@ -575,6 +739,7 @@ TetMesh MshParser::parse(MeshFileInfo* info)
   }
   if (info)
   {
+    this->reportGroups(*info);
     info->format = this->Version4 ? "Gmsh 4.1" : "Gmsh 2.2";
     info->skippedElements = this->Skipped;
     info->convertedElements = 0;

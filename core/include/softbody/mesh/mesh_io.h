@@ -12,9 +12,24 @@
 namespace softbody
 {
 
+/// A Gmsh physical group: the mesh points its elements use (of any dimension: a physical
+/// surface marks the boundary nodes a condition is put on).
+struct MeshGroup
+{
+  int dimension = 0;
+  long long tag = 0;
+  std::string name;           ///< from $PhysicalNames; "Physical <dim>D <tag>" when unnamed
+  std::vector<char> points;   ///< one flag per returned mesh point
+};
+
 /// What a reader met besides the tetrahedra it returns.
 struct MeshFileInfo
 {
+  /// Gmsh: per returned tet, the physical group (0: none; the first when several) and the
+  /// elementary entity of the volume element it came from. Empty for TetGen.
+  std::vector<long long> tetPhysicalTag, tetEntityTag;
+  /// Gmsh: every physical group that has elements, by dimension then tag.
+  std::vector<MeshGroup> groups;
   std::string format;              ///< e.g. "TetGen", "Gmsh 2.2", "Gmsh 4.1"
   std::size_t skippedElements = 0; ///< points, lines, triangles, quadrangles (not volume cells)
   std::size_t convertedElements = 0; ///< hexahedra, prisms and pyramids split into tetrahedra
@@ -40,7 +55,9 @@ TetMesh readTetGenMesh(const std::string& path, MeshFileInfo* info = nullptr);
 /// face is cut along the diagonal through its lowest-numbered node, so two cells sharing it
 /// cut it alike), positively oriented for a valid cell, and each conversion is counted in
 /// `info->warnings`. Points, lines, triangles and quadrangles are skipped and counted; volume
-/// cells of second or higher order are refused with their count. Node tags are mapped to
+/// cells of second or higher order are refused with their count. Physical groups and
+/// elementary entities are kept in `info` (tags per tet, the nodes of each physical group
+/// including the points, lines and surfaces it holds). Node tags are mapped to
 /// contiguous indices in file order. Throws InvalidInputError, naming the line, for binary,
 /// unsupported, truncated or malformed files.
 TetMesh readGmshMesh(const std::string& path, MeshFileInfo* info = nullptr);
