@@ -1,5 +1,15 @@
 #include "vtkSoftBodyArrays.h"
 
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDataSet.h"
+#include "vtkFieldData.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
 #include <algorithm>
 
 // Copies core's vectors into a new 3-component VTK array. A copy, not zero-copy: the
@@ -40,4 +50,45 @@ vtkSmartPointer<vtkStringArray> vtkSoftBodyArrays::MakeStringArray(
     array->SetValue(static_cast<vtkIdType>(i), values[i]);
   }
   return array;
+}
+
+//------------------------------------------------------------------------------
+vtkMTimeType vtkSoftBodyArrays::ContentMTime(vtkDataSet* data)
+{
+  if (!data)
+  {
+    return 0;
+  }
+  vtkMTimeType latest = 0;
+  const auto see = [&](vtkObject* object) {
+    if (object)
+    {
+      latest = std::max(latest, object->GetMTime());
+    }
+  };
+  if (auto* points = vtkPointSet::SafeDownCast(data))
+  {
+    see(points->GetPoints());
+  }
+  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(data))
+  {
+    see(grid->GetCells());
+    see(grid->GetCellTypesArray());
+  }
+  if (auto* poly = vtkPolyData::SafeDownCast(data))
+  {
+    see(poly->GetVerts());
+    see(poly->GetLines());
+    see(poly->GetPolys());
+    see(poly->GetStrips());
+  }
+  for (vtkFieldData* arrays : { static_cast<vtkFieldData*>(data->GetPointData()),
+         static_cast<vtkFieldData*>(data->GetCellData()), data->GetFieldData() })
+  {
+    for (int i = 0; arrays && i < arrays->GetNumberOfArrays(); ++i)
+    {
+      see(arrays->GetAbstractArray(i));
+    }
+  }
+  return latest;
 }

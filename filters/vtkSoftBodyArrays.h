@@ -13,6 +13,9 @@
 #include "vtkDoubleArray.h"
 #include "vtkSmartPointer.h"
 #include "vtkStringArray.h"
+#include "vtkType.h"
+
+class vtkDataSet;
 
 #include <string>
 #include <vector>
@@ -25,6 +28,12 @@ vtkSmartPointer<vtkDoubleArray> MakeVectorArray(const char* name, const std::vec
 vtkSmartPointer<vtkDoubleArray> MakeScalarArray(const char* name, const std::vector<double>& values);
 /// A string array (field data: plan, warnings, names).
 vtkSmartPointer<vtkStringArray> MakeStringArray(const char* name, const std::vector<std::string>& values);
+
+/// When `data`'s content last changed: the latest modification of its points, cells and
+/// arrays (0 for null). Unlike the data object's own MTime it does not move when a pipeline
+/// shallow-copies the same content into it again (a source consumed by two filters with
+/// different requests re-executes so), which would otherwise rebuild the simulation.
+vtkMTimeType ContentMTime(vtkDataSet* data);
 }
 
 #endif

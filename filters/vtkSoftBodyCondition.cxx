@@ -17,6 +17,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTransform.h"
 
 #include <cmath>
@@ -90,6 +91,20 @@ void vtkSoftBodyCondition::RemoveAllKeyframes()
 int vtkSoftBodyCondition::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkSoftBodyCondition::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // A condition is made on the body at rest, as the Soft Body filter reads its input: the time
+  // is not forwarded, so the body's source is asked the same by both and never re-executes
+  // between them (which would rebuild the simulation).
+  if (vtkInformation* inInfo = inputVector[0]->GetInformationObject(0))
+  {
+    inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+  }
   return 1;
 }
 

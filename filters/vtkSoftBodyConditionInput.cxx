@@ -1,9 +1,11 @@
 #include "vtkSoftBodyConditionInput.h"
 
+#include "vtkSoftBodyArrays.h"
 #include "vtkSoftBodyConditionCodec.h"
 #include "vtkSoftBodyDistribution.h"
 
 #include "vtkDataObject.h"
+#include "vtkDataSet.h"
 #include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkInformation.h"
@@ -58,13 +60,13 @@ std::string vtkSoftBodyConditionInput::Read(vtkInformationVector* port,
   vtkUnstructuredGrid* body, std::vector<softbody::Condition>& conditions)
 {
   const int count = port ? port->GetNumberOfInformationObjects() : 0;
-  Key key{ { body, body->GetMTime() } };
+  Key key{ { body, vtkSoftBodyArrays::ContentMTime(body) } };
   std::vector<vtkDataObject*> objects;
   for (int k = 0; k < count; ++k)
   {
     vtkDataObject* object = port->GetInformationObject(k)->Get(vtkDataObject::DATA_OBJECT());
     objects.push_back(object);
-    key.emplace_back(object, object ? object->GetMTime() : 0);
+    key.emplace_back(object, vtkSoftBodyArrays::ContentMTime(vtkDataSet::SafeDownCast(object)));
   }
   if (key == this->Converted)
   {
@@ -72,7 +74,7 @@ std::string vtkSoftBodyConditionInput::Read(vtkInformationVector* port,
     return {};
   }
   conditions.clear();
-  if (count == 0)
+  if (count == 0 || body->GetNumberOfPoints() == 0) // an empty body is refused by the filter
   {
     this->Converted = key;
     this->Conditions.clear();

@@ -1,9 +1,9 @@
 #include "vtkSoftBodyFilter.h"
 
+#include "vtkSoftBodyConditionInput.h"
 #include "vtkSoftBodyDistribution.h"
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyFrameRunner.h"
-#include "vtkSoftBodyConditionInput.h"
 #include "vtkSoftBodyObstacleTimeline.h"
 #include "vtkSoftBodyOutputAssembly.h"
 #include "vtkSoftBodyOutputPort.h"
@@ -13,9 +13,12 @@
 #include "vtkSoftBodySurfaceInput.h"
 
 #include "vtkDemandDrivenPipeline.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiProcessController.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPolyData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
@@ -367,6 +370,18 @@ bool vtkSoftBodyFilter::AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData*
   {
     vtkWarningMacro(<< inversionWarning);
     internals.InversionSaid = true;
+  }
+  // When the conditions were changed during playback, and from which frames on.
+  const std::vector<double> changes = internals.ConditionChangeTimes(this->P.FrameInterval);
+  if (!changes.empty())
+  {
+    vtkNew<vtkDoubleArray> times;
+    times->SetName("ConditionChangeTimes");
+    for (double time : changes)
+    {
+      times->InsertNextValue(time);
+    }
+    outputs.Mesh->GetFieldData()->AddArray(times);
   }
   vtkSoftBodyOutputAssembly::FillParticles(internals.Built, outputs.Mesh, outputs.Particles);
   vtkSoftBodyOutputAssembly::FillConvergence(internals.Built, outputs.Convergence);

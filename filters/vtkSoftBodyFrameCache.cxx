@@ -45,6 +45,16 @@ const softbody::DynamicState* vtkSoftBodyFrameCache::FindLatestAtOrBefore(
 }
 
 //------------------------------------------------------------------------------
+void vtkSoftBodyFrameCache::DropAfter(int index)
+{
+  for (auto it = this->Frames.upper_bound(index); it != this->Frames.end();)
+  {
+    this->MemoryUsed -= it->second.Bytes;
+    it = this->Frames.erase(it);
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkSoftBodyFrameCache::Clear()
 {
   this->Frames.clear();

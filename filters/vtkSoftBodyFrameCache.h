@@ -105,6 +105,8 @@ public:
   const softbody::DynamicState* FindLatestAtOrBefore(int index, int& foundIndex);
 
   bool Contains(int index) const { return this->Frames.count(index) != 0; }
+  /// Forgets the frames after `index` (they are simulated anew).
+  void DropAfter(int index);
   std::size_t GetNumberOfFrames() const { return this->Frames.size(); }
   std::size_t GetMemoryUsed() const { return this->MemoryUsed; }
   void Clear();

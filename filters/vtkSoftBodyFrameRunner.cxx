@@ -1,10 +1,13 @@
 #include "vtkSoftBodyFrameRunner.h"
 
+#include "vtkSoftBodyArrays.h"
+
 #include "vtkLogger.h"
 #include "vtkUnstructuredGrid.h"
 
 #include "softbody/common/errors.h"
 
+#include <algorithm>
 #include <chrono>
 #include <sstream>
 #include <stdexcept>
@@ -18,6 +21,8 @@ void vtkSoftBodyFrameRunner::Discard()
   this->SimulationFrame = -1;
   this->Input = nullptr;
   this->Obstacles.Reset({});
+  this->ConditionEpochs.clear();
+  this->AppliedEpoch = 0;
 }
 
 //------------------------------------------------------------------------------
@@ -35,7 +40,7 @@ vtkSoftBodyFrameRunner::Result vtkSoftBodyFrameRunner::Simulate(vtkUnstructuredG
   bool prepared = false;
   try
   {
-    if (!this->Prepare(input, settings, obstacles, p, hooks))
+    if (!this->Prepare(input, settings, obstacles, p, hooks, t))
     {
       return Result::Failed;
     }
@@ -79,15 +84,20 @@ vtkSoftBodyFrameRunner::Result vtkSoftBodyFrameRunner::Simulate(vtkUnstructuredG
 bool vtkSoftBodyFrameRunner::Prepare(vtkUnstructuredGrid* input,
   const vtkSoftBodyCoreSettings& settings,
   const std::vector<vtkSoftBodyObstacleConnection>& obstacles, const vtkSoftBodyParameters& p,
-  const Hooks& hooks)
+  const Hooks& hooks, double t)
 {
   vtkSoftBodyFrameRunner& internals = *this;
   internals.Cache.SetMemoryLimit(static_cast<std::size_t>(p.CacheMemoryLimit) << 20);
 
+  if (internals.ChangeConditionsLive(input, settings, obstacles, p, t))
+  {
+    return true;
+  }
+
   // The key is what the simulation is built from; EndTime and CacheMemoryLimit are not part
   // of it, nor is any property the method ignores, so changing those keeps the cache.
   if (internals.Built.Simulation && internals.Input == input &&
-    internals.InputMTime == input->GetMTime() && internals.Settings == settings &&
+    internals.InputMTime == vtkSoftBodyArrays::ContentMTime(input) && internals.Settings == settings &&
     internals.Obstacles.GetConnections() == obstacles)
   {
     return true;
@@ -114,8 +124,10 @@ bool vtkSoftBodyFrameRunner::Prepare(vtkUnstructuredGrid* input,
   internals.Cache.Insert(0, internals.Built.Simulation->state());
   internals.SimulationFrame = 0;
   internals.Input = input;
-  internals.InputMTime = input->GetMTime();
+  internals.InputMTime = vtkSoftBodyArrays::ContentMTime(input);
   internals.Settings = settings;
+  internals.ConditionEpochs.assign(1, { 0, settings.Conditions });
+  internals.AppliedEpoch = 0;
 
   // Said once per simulation, not on every frame; the Warnings field data repeats them.
   const std::vector<std::string>& warnings = internals.Built.Simulation->warnings();
@@ -129,6 +141,83 @@ bool vtkSoftBodyFrameRunner::Prepare(vtkUnstructuredGrid* input,
     hooks.Warn("Soft body set up with warnings:" + msg.str());
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkSoftBodyFrameRunner::ChangeConditionsLive(vtkUnstructuredGrid* input,
+  const vtkSoftBodyCoreSettings& settings,
+  const std::vector<vtkSoftBodyObstacleConnection>& obstacles, const vtkSoftBodyParameters& p,
+  double t)
+{
+  // Only the conditions' values changed (the same body, settings and sets): the frames up to
+  // the one shown stay, the change applies from there on, and the frames after it are
+  // simulated anew. A change of anything else builds the simulation again.
+  vtkSoftBodyCoreSettings same = this->Settings;
+  same.Conditions = settings.Conditions;
+  if (!this->Built.Simulation || this->Input != input || this->InputMTime != vtkSoftBodyArrays::ContentMTime(input) ||
+    !(same == settings) || this->Settings.Conditions == settings.Conditions ||
+    this->Obstacles.GetConnections() != obstacles || this->ConditionEpochs.empty())
+  {
+    return false;
+  }
+  const vtkSoftBodyFrameGrid grid{ p.FrameInterval, p.EndTime };
+  bool onGrid = true;
+  int frame = grid.FrameOf(t, onGrid);
+  frame = (!onGrid && frame * p.FrameInterval > t) ? frame - 1 : frame;
+  frame = std::max(frame, 0);
+  // Try the new values on the simulation as it is (a refused value keeps everything).
+  if (!this->Built.Simulation->setConditionValues(settings.Conditions))
+  {
+    return false; // a set, a kind or a held component changed: build anew
+  }
+  while (!this->ConditionEpochs.empty() && this->ConditionEpochs.back().first >= frame &&
+    this->ConditionEpochs.size() > 1)
+  {
+    this->ConditionEpochs.pop_back();
+  }
+  if (this->ConditionEpochs.back().first >= frame)
+  {
+    this->ConditionEpochs.back().second = settings.Conditions; // a change at frame 0
+  }
+  else
+  {
+    this->ConditionEpochs.emplace_back(frame, settings.Conditions);
+  }
+  this->AppliedEpoch = this->ConditionEpochs.size() - 1;
+  this->Cache.DropAfter(frame);
+  this->SimulationFrame = -1; // resume from the cached frame
+  this->Settings = settings;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftBodyFrameRunner::ApplyConditionsOf(int frame)
+{
+  // The latest change at or before the frame the next step starts from.
+  std::size_t epoch = 0;
+  for (std::size_t e = 0; e < this->ConditionEpochs.size(); ++e)
+  {
+    if (this->ConditionEpochs[e].first <= frame)
+    {
+      epoch = e;
+    }
+  }
+  if (epoch != this->AppliedEpoch && epoch < this->ConditionEpochs.size())
+  {
+    this->Built.Simulation->setConditionValues(this->ConditionEpochs[epoch].second);
+    this->AppliedEpoch = epoch;
+  }
+}
+
+//------------------------------------------------------------------------------
+std::vector<double> vtkSoftBodyFrameRunner::ConditionChangeTimes(double frameInterval) const
+{
+  std::vector<double> times;
+  for (std::size_t e = 1; e < this->ConditionEpochs.size(); ++e)
+  {
+    times.push_back(this->ConditionEpochs[e].first * frameInterval);
+  }
+  return times;
 }
 
 //------------------------------------------------------------------------------
@@ -207,6 +296,7 @@ vtkSoftBodyFrameRunner::Result vtkSoftBodyFrameRunner::AdvanceTo(
   };
   for (int k = first + 1; k <= target; ++k)
   {
+    internals.ApplyConditionsOf(k - 1);
     if (!internals.Obstacles.SetForInterval(
           simulation, (k - 1) * p.FrameInterval, k * p.FrameInterval))
     {
@@ -226,6 +316,7 @@ vtkSoftBodyFrameRunner::Result vtkSoftBodyFrameRunner::AdvanceTo(
   {
     // Off-grid times (only EndTime, or a time a script asks for) are not cached: the next
     // request resumes from the grid frame before them.
+    internals.ApplyConditionsOf(target);
     if (!internals.Obstacles.SetForInterval(simulation, target * p.FrameInterval, t))
     {
       return Result::NeedsObstacles;

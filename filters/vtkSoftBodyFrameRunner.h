@@ -5,7 +5,7 @@
  * Kept between requests: the simulation and the device it runs on, its frame cache, the
  * render surface's binding, the MPI distribution, the obstacles over time, and the key the
  * simulation was built from (input identity and modification time, core settings, Obstacles
- * connections). Simulate() brings the simulation to a requested time: it rebuilds only when
+ * connections, the Conditions' values over time). Simulate() brings the simulation to a requested time: it rebuilds only when
  * the key changed (and builds before it replaces, so a refused value keeps the cache), resumes
  * from the latest cached frame at or before the time, and caches every grid frame it passes.
  * What the filter does for it (warnings, errors, progress, abort) comes in as Hooks, so the
@@ -74,6 +74,10 @@ public:
   /// The Obstacles input the simulation was built with, and the moving ones over time.
   vtkSoftBodyObstacleTimeline Obstacles;
 
+  /// When the conditions' values changed during the run (their widgets moved): the frame
+  /// times from which each change applies (empty when they never changed).
+  std::vector<double> ConditionChangeTimes(double frameInterval) const;
+
   std::string RunWarning;     ///< the run to EndTime will take long (steps, time, remedies)
   bool InversionSaid = false; ///< inverted tets were warned of (once per simulation)
 
@@ -84,7 +88,15 @@ private:
   /// frames stay, so that correcting the value finds them again.
   bool Prepare(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
     const std::vector<vtkSoftBodyObstacleConnection>& obstacles, const vtkSoftBodyParameters& p,
-    const Hooks& hooks);
+    const Hooks& hooks, double t);
+  /// When only the conditions' values changed (a widget moved during playback) and the
+  /// simulation takes them in place: keeps the frames up to the one at or before `t`, records
+  /// the change from there on, drops the frames after it. False: build anew.
+  bool ChangeConditionsLive(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
+    const std::vector<vtkSoftBodyObstacleConnection>& obstacles, const vtkSoftBodyParameters& p,
+    double t);
+  /// Gives the simulation the conditions in force from grid frame `frame` on.
+  void ApplyConditionsOf(int frame);
   /// Brings the simulation to time `t` through the cache, or as far as the moving obstacles
   /// fetched so far allow (NeedsObstacles: the next pass fetches the missing time).
   Result AdvanceTo(
@@ -98,6 +110,10 @@ private:
   vtkMTimeType InputMTime = 0;
   vtkSoftBodyCoreSettings Settings;
   std::string RunWarningSaid; ///< the last long-run warning printed, so it is said once
+  /// The conditions' values over the run: from grid frame `first` on, `second` (the first
+  /// entry from frame 0; one more per change made during playback).
+  std::vector<std::pair<int, std::vector<softbody::Condition>>> ConditionEpochs;
+  std::size_t AppliedEpoch = 0; ///< the entry the simulation holds now
 };
 
 #endif

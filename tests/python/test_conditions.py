@@ -16,7 +16,9 @@ user applies them.
 5. Bad conditions: a set from another mesh, a pressure on a set with no boundary face, an empty
    region, each with a message naming the condition.
 6. The initial state: a spin about the centre of mass has the rigid rotation's kinetic energy,
-   and a run restarted from a saved frame's Displacement and Velocity continues it."""
+   and a run restarted from a saved frame's Displacement and Velocity continues it.
+7. A condition changed during playback (a Pull handle moved): earlier frames stay, the change
+   applies from the frame shown on, and the run replays the same from frame 0."""
 
 import builtins
 import os
@@ -167,6 +169,41 @@ gap = float(np.abs(again - whole).max())
 sbt.check(gap < 1e-9, f"restart: 0.5 s from the saved frame lands where the run did at 1 s (gap {gap:.1e} m)")
 Delete(restart)
 Delete(run)
+
+# 7. A widget moved during playback: the Pull target changes at t = 0.5 s. The frames before
+#    keep their values, the change applies from the frame shown on, the run after it is the run
+#    restarted there with the new target, and it replays the same once its frames are evicted.
+hand = SoftBodyCondition(Input=jelly, ConditionName="hand", ConditionType="Pull", Region="Sphere",
+                         SphereCenter=[0.15, 0, 0.5], SphereRadius=0.04, PullTarget=[0.3, 0, 0.6],
+                         PullStiffness=50)
+live = SoftBody(Input=jelly, Conditions=[hand], EndTime=1.0, FrameInterval=0.1, TimeStep=1e-3)
+before = {t: sbt.points_of(sbt.output_at(live, t)) for t in (0.3, 0.5)}
+hand.PullTarget = [0.0, 0.3, 0.7]  # the handle moved while frame 0.5 s is shown
+moved = sbt.output_at(live, 0.5)
+sbt.check(np.array_equal(sbt.points_of(moved), before[0.5]), "live change: the frame shown keeps its value")
+sbt.check(np.array_equal(sbt.points_of(sbt.output_at(live, 0.3)), before[0.3]), "live change: earlier frames keep theirs")
+after = sbt.output_at(live, 1.0)
+changes = after.GetFieldData().GetArray("ConditionChangeTimes")
+sbt.check(changes is not None and changes.GetNumberOfTuples() == 1 and abs(changes.GetValue(0) - 0.5) < 1e-12,
+          "live change: field data ConditionChangeTimes records it at 0.5 s")
+restart_input = PVTrivialProducer()
+at_rest = moved.NewInstance()
+at_rest.DeepCopy(moved)
+at_rest.GetPoints().SetData(numpy_support.numpy_to_vtk(sbt.points_of(moved) - sbt.point_array(moved, "Displacement"), deep=True))
+restart_input.GetClientSideObject().SetOutput(at_rest)
+hand_then = SoftBodyCondition(Input=restart_input, ConditionName="hand", ConditionType="Pull", Region="Sphere",
+                              SphereCenter=[0.15, 0, 0.5], SphereRadius=0.04, PullTarget=[0.0, 0.3, 0.7],
+                              PullStiffness=50)
+# The sphere selects by rest position: the same points as on the jelly.
+resumed = SoftBody(Input=restart_input, Conditions=[hand_then], InitialDisplacementArray="Displacement",
+                   InitialVelocityArray="Velocity", EndTime=0.5, FrameInterval=0.1, TimeStep=1e-3)
+gap = float(np.abs(sbt.points_of(sbt.output_at(resumed, 0.5)) - sbt.points_of(after)).max())
+sbt.check(gap < 1e-9, f"live change: the run after it is the run restarted there with the new target (gap {gap:.1e} m)")
+live.CacheMemoryLimit = 0  # evicts every frame but 0
+replayed = sbt.points_of(sbt.output_at(live, 1.0))
+sbt.check(np.array_equal(replayed, sbt.points_of(after)), "live change: replayed from frame 0 it gives the same run")
+Delete(resumed)
+Delete(live)
 
 # 5. Bad conditions.
 errors = sbt.ErrorCapture()

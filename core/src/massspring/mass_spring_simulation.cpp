@@ -113,6 +113,16 @@ void MassSpringSimulation::internalForces(const std::vector<Vec3>& positions,
   }
 }
 
+bool MassSpringSimulation::setConditionValues(const std::vector<Condition>& conditions)
+{
+  if (!Conditions.sameStructure(conditions))
+  {
+    return false;
+  }
+  Conditions.replaceValues(conditions); // the implicit potential reads the same object
+  return true;
+}
+
 ConditionReadout MassSpringSimulation::conditionReadout() const
 {
   if (Conditions.empty())

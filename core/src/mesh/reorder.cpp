@@ -381,6 +381,23 @@ TetStressField ReorderedSimulation::stressField() const
   return field;
 }
 
+bool ReorderedSimulation::setConditionValues(const std::vector<Condition>& conditions)
+{
+  std::vector<Condition> stored = conditions;
+  for (Condition& c : stored)
+  {
+    for (std::int32_t& p : c.points)
+    {
+      if (p < 0 || static_cast<std::size_t>(p) >= Map.vertexSlot.size())
+      {
+        return false;
+      }
+      p = Map.vertexSlot[static_cast<std::size_t>(p)];
+    }
+  }
+  return Inner->setConditionValues(stored);
+}
+
 ConditionReadout ReorderedSimulation::conditionReadout() const
 {
   ConditionReadout readout = Inner->conditionReadout();

@@ -124,6 +124,16 @@ void PbdSimulation::predict(double h)
   std::fill(Attachments.lambda.begin(), Attachments.lambda.end(), 0.0);
 }
 
+bool PbdSimulation::setConditionValues(const std::vector<Condition>& conditions)
+{
+  if (!Conditions.sameStructure(conditions))
+  {
+    return false;
+  }
+  Conditions.replaceValues(conditions);
+  return true;
+}
+
 void PbdSimulation::holdPredicted(double h)
 {
   // Held components where their conditions put them at the substep's end, before the

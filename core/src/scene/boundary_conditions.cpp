@@ -229,6 +229,36 @@ void BoundaryConditions::setMasses(const std::vector<double>& mass)
   }
 }
 
+bool BoundaryConditions::sameStructure(const std::vector<Condition>& conditions) const
+{
+  if (conditions.size() != Conditions.size())
+  {
+    return false;
+  }
+  for (std::size_t k = 0; k < conditions.size(); ++k)
+  {
+    const Condition &a = Conditions[k], &b = conditions[k];
+    if (a.kind != b.kind || a.points != b.points || a.heldAxes != b.heldAxes)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+void BoundaryConditions::replaceValues(std::vector<Condition> conditions)
+{
+  if (!sameStructure(conditions))
+  {
+    throw InvalidInputError("The conditions changed their kind, set or held components, which "
+                            "changes the body's held points: the simulation must be built anew.");
+  }
+  std::vector<std::string> warnings; // said when the body was built
+  validateConditions(conditions, Rest.size(), warnings);
+  Conditions = std::move(conditions);
+  setMasses(Mass);
+}
+
 std::vector<char> BoundaryConditions::fullyHeld() const
 {
   std::vector<char> full(Rest.size(), 0);

@@ -58,6 +58,11 @@ public:
   /// Reactions at held points (input point order) and each condition's total force and
   /// moment at the current state; empty where the body has no conditions.
   virtual ConditionReadout conditionReadout() const { return {}; }
+  /// New values for the body's conditions from the current state on (a condition's widget
+  /// moved during playback): the same conditions with the same sets, points in input order.
+  /// Returns false where the stepper cannot change them in place (the caller rebuilds);
+  /// throws InvalidInputError for a bad value.
+  virtual bool setConditionValues(const std::vector<Condition>& /*conditions*/) { return false; }
   /// Elastic energy of the current state [J]; NaN where the stepper does not say.
   virtual double elasticEnergy() const;
   /// Kinetic energy sum m v^2 / 2 of the free points [J].

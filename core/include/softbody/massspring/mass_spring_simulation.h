@@ -61,6 +61,7 @@ public:
   /// Reactions at the held points and each condition's total force and moment, at the
   /// current state.
   ConditionReadout conditionReadout() const override;
+  bool setConditionValues(const std::vector<Condition>& conditions) override;
 
   /// Current over rest volume of each tet (in core's orientation: inverted input tets that
   /// were re-oriented report positive ratios).

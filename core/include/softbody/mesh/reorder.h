@@ -132,6 +132,7 @@ public:
   std::vector<double> tetVolumeRatios() const override;
   TetStressField stressField() const override;
   ConditionReadout conditionReadout() const override;
+  bool setConditionValues(const std::vector<Condition>& conditions) override;
   double elasticEnergy() const override { return Inner->elasticEnergy(); }
   double stepSize() const override { return Inner->stepSize(); }
   double estimatedStableStep() const override { return Inner->estimatedStableStep(); }

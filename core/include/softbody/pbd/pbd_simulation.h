@@ -51,6 +51,7 @@ public:
   bool supportsObstacles() const override { return true; }
   /// With Collisions Off nothing is collided with, so the obstacles are kept out of the step.
   void setObstacles(std::vector<ObstacleSurface> obstacles, double endTime) override;
+  bool setConditionValues(const std::vector<Condition>& conditions) override;
 
   /// The contacts of the last substep (stepper numbering) and the detector that found them
   /// (null when the collision mode is Off).

@@ -60,6 +60,14 @@ public:
   /// The points' masses [kg], which spread ByMass forces and weigh the Pull centroid.
   void setMasses(const std::vector<double>& mass);
 
+  /// Whether `conditions` differ from these in their values only (the same kinds, sets and
+  /// held components): what replaceValues accepts.
+  bool sameStructure(const std::vector<Condition>& conditions) const;
+  /// New values for the same conditions (a widget moved while the animation plays): forces,
+  /// pressures, motions, pull targets and stiffnesses, profiles. Throws InvalidInputError for a
+  /// bad value or when !sameStructure (the held points and the masses would change).
+  void replaceValues(std::vector<Condition> conditions);
+
   bool empty() const { return Conditions.empty(); }
   const std::vector<Condition>& conditions() const { return Conditions; }
 
