@@ -71,9 +71,11 @@ std::string vtkSoftBodyConditionInput::Read(vtkInformationVector* port,
   if (key == this->Converted)
   {
     conditions = this->Conditions;
+    this->Warnings.clear(); // said when converted
     return {};
   }
   conditions.clear();
+  this->Warnings.clear();
   if (count == 0 || body->GetNumberOfPoints() == 0) // an empty body is refused by the filter
   {
     this->Converted = key;
@@ -98,9 +100,11 @@ std::string vtkSoftBodyConditionInput::Read(vtkInformationVector* port,
       return "Conditions input " + std::to_string(k) + ": " + error;
     }
     const std::vector<double> xyz = SetCoordinates(set);
+    std::size_t elsewhere = 0; // set points of another rank's bodies
     for (std::size_t p = 0; p < xyz.size(); p += 3)
     {
       locator->FindPointsWithinRadius(tolerance, xyz.data() + p, found);
+      elsewhere += found->GetNumberOfIds() == 0 ? 1 : 0;
       if (found->GetNumberOfIds() == 0 && !distributed)
       {
         std::ostringstream s;
@@ -124,6 +128,14 @@ std::string vtkSoftBodyConditionInput::Read(vtkInformationVector* port,
       taken[static_cast<std::size_t>(id)] = 0;
     }
     std::sort(condition.points.begin(), condition.points.end());
+    const bool total = condition.kind == softbody::ConditionKind::Pull ||
+      (condition.kind == softbody::ConditionKind::Force && condition.spread != softbody::ForceSpread::PerPoint);
+    if (total && elsewhere > 0 && !condition.points.empty())
+    {
+      this->Warnings.push_back("Condition '" + condition.name + "' spans bodies on several ranks: each "
+        "rank spreads its whole force over its own part of the set. Spread it per point, or keep the "
+        "bodies together (Collisions = Obstacles + Bodies simulates every body on rank 0).");
+    }
     conditions.push_back(std::move(condition));
   }
   this->Converted = key;

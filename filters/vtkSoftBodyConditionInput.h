@@ -35,7 +35,12 @@ public:
   std::string Read(vtkInformationVector* port, vtkUnstructuredGrid* body,
     std::vector<softbody::Condition>& conditions);
 
+  /// What the last conversion has to say (under MPI: a total force or pull whose set spans
+  /// bodies on several ranks), to be warned once.
+  const std::vector<std::string>& GetWarnings() const { return this->Warnings; }
+
 private:
+  std::vector<std::string> Warnings;
   using Key = std::vector<std::pair<const void*, vtkMTimeType>>;
   Key Converted; ///< body, then each connection, as last converted
   std::vector<softbody::Condition> Conditions;

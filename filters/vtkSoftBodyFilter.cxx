@@ -245,6 +245,10 @@ int vtkSoftBodyFilter::RequestData(
     vtkErrorMacro(<< conditionError);
     return 0;
   }
+  for (const std::string& warning : this->Internals->Conditions.GetWarnings())
+  {
+    vtkWarningMacro(<< warning);
+  }
 
   // The Obstacles input (ignored with Collisions Off): each connection's key, and the moving
   // ones' surfaces at the time this pass requested them.

@@ -6,7 +6,7 @@ under `mpirun -np 2 pvbatch --ranks`, where the reader's pieces go through Redis
 which cuts the middle body across the two ranks, into Soft Body. The distributed run must give every
 point the serial position (matched by OriginalId; equal up to rounding, since the gathered
 body's points are in another order, which changes the order of floating-point sums), the same
-total mass, and each body simulated whole on one rank. Three scenes:
+total mass, and each body simulated whole on one rank. Five scenes:
 
 - plain: the floor only; both ranks busy;
 - obstacle: the bodies fall onto a large Sphere (Collisions = Obstacles) whose pieces the
@@ -16,7 +16,10 @@ total mass, and each body simulated whole on one rank. Three scenes:
   meet, so all of them are simulated on rank 0 (with a warning saying so);
 - surface: the floor only, with the bodies' outer surface (Extract Surface of the reader) as
   the Surface input: rank 0 takes the whole Surface and every body, and the skinned Surface
-  output must equal the serial one.
+  output must equal the serial one;
+- conditions: a Soft Body Condition (a force on every point left of the row's middle) made on
+  the ranks' pieces, whose set spans bodies on both ranks: the filter gathers it, and every
+  point ends where the serial run puts it.
 """
 
 import json
@@ -66,7 +69,7 @@ def write(grid, path):
     writer.Write()
 
 
-SCENES = ("plain", "obstacle", "bodies", "surface")
+SCENES = ("plain", "obstacle", "bodies", "surface", "conditions")
 
 
 def sphere_under_bodies(bounds):
@@ -80,6 +83,14 @@ def sphere_under_bodies(bounds):
 def soft_body(scene, source, bounds, reader):
     if scene == "plain":
         return SoftBody(Input=source, EndTime=END_TIME)
+    if scene == "conditions":
+        # A force on every point left of the row's middle: the set spans the first body and
+        # half of the middle one, which the ranks' pieces cut; each rank's condition sees its
+        # piece only, and the filter gathers the set from every rank.
+        push = SoftBodyCondition(Input=source, ConditionName="push", ConditionType="Force",
+                                 Region="Half-space", PlaneOrigin=[0.5 * (bounds[0] + bounds[1]), 0, 0],
+                                 PlaneNormal=[-1, 0, 0], Force=[0, 0, 0.05], ForceSpread="Per point")
+        return SoftBody(Input=source, Conditions=[push], EndTime=END_TIME)
     if scene == "surface":
         # From the reader, not from the redistributed pieces (whose surfaces include the cuts).
         return SoftBody(Input=source, Surface=ExtractSurface(Input=reader), EndTime=END_TIME)
@@ -263,6 +274,8 @@ def run_serial_and_compare():
         obstacle_effect = np.abs(final["obstacle"] - final["plain"]).max()
         print(f"the sphere moves the bodies' final points by up to {obstacle_effect:.3f} m")
         sbt.check(obstacle_effect > 0.05, "the bodies land on the sphere (the obstacle scene is not the plain one)")
+        push_effect = np.abs(final["conditions"] - final["plain"]).max()
+        sbt.check(push_effect > 1e-3, f"the force condition moves the bodies (by up to {push_effect:.3f} m)")
     finally:
             shutil.rmtree(work, ignore_errors=True)
     print("python.mpi passed")
