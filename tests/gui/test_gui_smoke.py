@@ -4,7 +4,9 @@ Loads the plugin, opens data/jelly.vtu, applies Soft Body as the Apply button do
 what a new user sees: only the Mesh and the Floor shown, in the one render view (no spreadsheet
 or chart pane for Convergence, no particles over the mesh), the Mesh coloured by Velocity, the
 render view still the active view, the animation stepping through the filter's times, and no
-error or warning in the Output Messages window. Then the same Apply on a voxelized torus (with
+error or warning in the Output Messages window. A Pull condition on the jelly, made active so
+its panel builds its widgets, changed while the animation stands at a frame, is recorded from
+that frame on. Then the same Apply on a voxelized torus (with
 the torus as its Surface) and on the cloth, both under XPBD: the same two ports, still one view,
 both bodies following the animation time.
 """
@@ -18,8 +20,8 @@ failures = []
 try:
     messages = gui_support.OutputMessages()
     from paraview.simple import (GetActiveView, GetAnimationScene, GetDisplayProperties,
-                                 GetViews, OutputPort, Render, XMLPolyDataReader,
-                                 XMLUnstructuredGridReader)
+                                 GetViews, OutputPort, Render, SetActiveSource,
+                                 XMLPolyDataReader, XMLUnstructuredGridReader)
     gui_support.load_plugin(globals())
 
     reader = XMLUnstructuredGridReader(FileName=[gui_support.data_file("jelly.vtu")])
@@ -62,6 +64,30 @@ try:
                         % (floor_bounds,))
     if GetActiveView().GetXMLName() != "RenderView":
         failures.append("after stepping, the active view is %s" % GetActiveView().GetXMLName())
+
+    # A Pull condition on the jelly, applied and made active as a user does (its panel builds
+    # the sphere and handle widgets), pulled while the animation stands at a frame: the
+    # change applies from that frame on (ConditionChangeTimes), the frames before stay.
+    hand = SoftBodyCondition(Input=reader, ConditionName="hand", ConditionType="Pull",
+                             Region="Sphere", SphereCenter=[0.15, 0, 0.5], SphereRadius=0.04,
+                             PullTarget=[0.3, 0, 0.6], PullStiffness=50)
+    gui_support.apply_like_gui(hand)
+    if hand.GetDataInformation().GetNumberOfPoints() == 0:
+        failures.append("the Pull condition's sphere selects no point of the jelly")
+    held = SoftBody(Input=reader, Conditions=[hand], EndTime=1.0)
+    gui_support.apply_like_gui(held)
+    scene.UpdateAnimationUsingDataTimeSteps()
+    scene.AnimationTime = times[3]
+    Render(view)
+    SetActiveSource(hand)
+    hand.PullTarget = [0.0, 0.3, 0.7]  # what dragging the handle writes
+    Render(view)
+    scene.AnimationTime = times[5]
+    Render(view)
+    changes = held.GetFieldDataInformation().GetArray("ConditionChangeTimes")
+    if changes is None or abs(changes.GetRange(0)[0] - times[3]) > 1e-9:
+        failures.append("the pull moved at t = %g is not recorded from there (ConditionChangeTimes %s)"
+                        % (times[3], changes.GetRange(0) if changes else None))
 
     # The two particle bodies, under XPBD: a voxelized surface given as its own
     # Surface, and the cloth. Apply shows the same two ports and opens no pane for either.
