@@ -1,9 +1,10 @@
 #include "vtkSoftBodySimulationFactory.h"
 
 #include "vtkSoftBodyInitialState.h"
-
 #include "vtkSoftBodyInputConversion.h"
 #include "vtkSoftBodySettings.h"
+
+#include "vtkUnstructuredGrid.h"
 
 #include "softbody/massspring/mass_spring_reordered.h"
 #include "softbody/massspring/mass_spring_simulation.h"
@@ -12,10 +13,15 @@
 #include "softbody/gpu/mass_spring_gpu_simulation.h"
 #endif
 
+#include <sstream>
 #include <utility>
 
 namespace
 {
+/// Bodies outside these sizes [m] are warned about as probably in other length units.
+constexpr double kLargestLikelySize = 100.0;
+constexpr double kSmallestLikelySize = 1e-3;
+
 /// The GPU mass-spring stepper, or null with the reason why not (then the caller falls back
 /// to the CPU). Invalid input throws InvalidInputError as the CPU stepper would.
 std::unique_ptr<softbody::Simulation> MakeGpuSimulation(const softbody::BodyDescription& body,
@@ -121,6 +127,18 @@ bool vtkSoftBodySimulationFactory::Build(vtkUnstructuredGrid* input,
   if (!made)
   {
     return false;
+  }
+  // Lengths are meters: a body hundreds of meters (or under a millimeter) across was most likely
+  // saved in other units, and every density, modulus and the gravity then mean something else.
+  const double size = input->GetLength();
+  if (size > kLargestLikelySize || (size > 0.0 && size < kSmallestLikelySize))
+  {
+    std::ostringstream message;
+    message << "The body is " << size << " m across (its bounding-box diagonal): lengths are taken "
+            << "as meters. If its coordinates are in " << (size > kLargestLikelySize ? "millimeters" : "kilometers")
+            << ", scale it by " << (size > kLargestLikelySize ? "0.001" : "1000")
+            << " first (Filters > Transform, Scale).";
+    warn(message.str());
   }
   error = vtkSoftBodyInitialState::Apply(input, settings.Initial, *built.Simulation);
   return error.empty();

@@ -1,5 +1,6 @@
 """python.invalid_properties: out-of-range properties and unusable inputs give a VTK error and an
-empty output, never a crash; correcting the value makes the filter work again."""
+empty output, never a crash; correcting the value makes the filter work again. A body whose size
+says it is not in meters is warned about."""
 
 import os
 
@@ -113,5 +114,19 @@ body.CacheMemoryLimit = 512
 errors.clear()
 out = sbt.output_at(body, -5.0)
 sbt.check(not errors.errors and out.GetNumberOfPoints() > 0, "a time before 0 gives frame 0")
+# A body in millimeters (the jelly scaled by 1000, 400 m across) is simulated as meters, with a
+# warning quoting its size and the remedy; the jelly itself is not warned about.
+errors.clear()
+sbt.output_at(body, 0.1)
+sbt.check(not any("m across" in w for w in errors.warnings), "the jelly (0.4 m) is not warned about its units")
+millimeters = Transform(Input=reader)
+millimeters.Transform.Scale = [1000, 1000, 1000]
+scaled = SoftBody(Input=millimeters, EndTime=0.1, FrameInterval=0.1, Floor=0)
+errors.clear()
+sbt.output_at(scaled, 0.1)
+text = "".join(errors.warnings)
+sbt.check("m across (its bounding-box diagonal): lengths are taken as meters" in text and "millimeters" in text
+          and "0.001" in text, f"a body in millimeters is warned with its size and the remedy ({text.strip()[:200]!r})")
+Delete(scaled)
 errors.close()
 print("python.invalid_properties passed")

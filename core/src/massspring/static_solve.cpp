@@ -17,8 +17,9 @@ std::string staticHoldProblem(const std::vector<Vec3>& positions, const PointMas
       fixed.push_back(positions[i]);
     }
   }
-  const std::string remedy = " Pin points that hold the body (PinnedArray), or use Implicit "
-                             "Euler, which needs no support.";
+  const std::string remedy = " Hold it where it is supported: a Fixed Soft Body Condition on "
+                             "that region (or PinnedPointsArray), or use Implicit Euler, which "
+                             "needs no support.";
   if (fixed.size() < 3)
   {
     return "Integrator Static needs a body held still, but it has " +
