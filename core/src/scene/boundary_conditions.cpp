@@ -2,6 +2,7 @@
 
 #include "softbody/collision/boundary_triangles.h"
 #include "softbody/common/errors.h"
+#include "softbody/common/parallel.h"
 
 #include <Eigen/Geometry>
 
@@ -135,6 +136,10 @@ BoundaryConditions::BoundaryConditions(std::vector<Condition> conditions,
       {
         inSet[static_cast<std::size_t>(p)] = 0;
       }
+      if (!Faces[ci].empty())
+      {
+        gatherFaces(ci);
+      }
       if (Faces[ci].empty())
       {
         throw InvalidInputError(named(c) + ": none of the body's boundary faces has all three "
@@ -170,6 +175,41 @@ BoundaryConditions::BoundaryConditions(std::vector<Condition> conditions,
         << " kg: an acceleration of " << loadScale / totalMass / kStandardGravity
         << " g. Check the units (newtons, pascals) and the body's density.";
       warnings.push_back(s.str());
+    }
+  }
+}
+
+void BoundaryConditions::gatherFaces(std::size_t k)
+{
+  FaceGathers.resize(Conditions.size());
+  FaceGather& g = FaceGathers[k];
+  std::vector<std::int32_t> count(Rest.size(), 0);
+  for (const auto& f : Faces[k])
+  {
+    for (std::int32_t corner : f)
+    {
+      ++count[static_cast<std::size_t>(corner)];
+    }
+  }
+  std::vector<std::int32_t> slot(Rest.size(), -1);
+  g.start.assign(1, 0);
+  for (std::size_t i = 0; i < Rest.size(); ++i)
+  {
+    if (count[i] > 0)
+    {
+      slot[i] = static_cast<std::int32_t>(g.corner.size());
+      g.corner.push_back(static_cast<std::int32_t>(i));
+      g.start.push_back(g.start.back() + count[i]);
+    }
+  }
+  g.faces.assign(static_cast<std::size_t>(g.start.back()), 0);
+  std::vector<std::int32_t> filled(g.corner.size(), 0);
+  for (std::size_t f = 0; f < Faces[k].size(); ++f)
+  {
+    for (std::int32_t corner : Faces[k][f])
+    {
+      const std::size_t j = static_cast<std::size_t>(slot[static_cast<std::size_t>(corner)]);
+      g.faces[static_cast<std::size_t>(g.start[j] + filled[j]++)] = static_cast<std::int32_t>(f);
     }
   }
 }
@@ -337,16 +377,21 @@ void BoundaryConditions::addPressure(const Condition& c, std::size_t k, double t
   const std::vector<Vec3>& x, std::vector<Vec3>& forces) const
 {
   // p A n over each face, a third to each corner: the exact nodal force of a uniform pressure
-  // on a linear triangle.
+  // on a linear triangle. The faces' area vectors in parallel, then each corner gathers its
+  // faces' shares in face order (no two tasks write one point).
   const double p = c.pressure * c.profile.at(t);
-  for (const auto& f : Faces[k])
-  {
-    const Vec3 share = (p / 3.0) * faceAreaVector(f, x);
-    for (std::int32_t corner : f)
+  const std::vector<std::array<std::int32_t, 3>>& faces = Faces[k];
+  FaceArea.resize(faces.size());
+  parallelFor(faces.size(), 2048, [&](std::size_t f) { FaceArea[f] = faceAreaVector(faces[f], x); });
+  const FaceGather& g = FaceGathers[k];
+  parallelFor(g.corner.size(), 2048, [&](std::size_t j) {
+    Vec3 sum = Vec3::Zero();
+    for (std::int32_t e = g.start[j]; e < g.start[j + 1]; ++e)
     {
-      forces[static_cast<std::size_t>(corner)] += share;
+      sum += FaceArea[static_cast<std::size_t>(g.faces[static_cast<std::size_t>(e)])];
     }
-  }
+    forces[static_cast<std::size_t>(g.corner[j])] += (p / 3.0) * sum;
+  });
 }
 
 void BoundaryConditions::addForce(const Condition& c, std::size_t k, double t,

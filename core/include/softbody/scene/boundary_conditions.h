@@ -112,6 +112,7 @@ private:
   void addPressure(const Condition& c, std::size_t k, double t, const std::vector<Vec3>& x,
     std::vector<Vec3>& forces) const;
   void addForce(const Condition& c, std::size_t k, double t, std::vector<Vec3>& forces) const;
+  void gatherFaces(std::size_t k); ///< FaceGathers[k] from Faces[k]
 
   std::vector<Condition> Conditions;
   std::vector<Vec3> Rest;
@@ -120,6 +121,15 @@ private:
   std::vector<std::array<std::int32_t, 3>> HeldBy;
   /// Per condition: the boundary faces with all corners in its set (Pressure, ByArea).
   std::vector<std::vector<std::array<std::int32_t, 3>>> Faces;
+  /// Per condition, its faces gathered by corner: for the k-th corner point (FaceCorner),
+  /// entries FaceOfCorner[CornerStart[k] .. CornerStart[k+1]) are its faces, in face order.
+  /// The pressure pass sums each point's share in parallel and in a fixed order.
+  struct FaceGather
+  {
+    std::vector<std::int32_t> corner, start, faces;
+  };
+  std::vector<FaceGather> FaceGathers;
+  mutable std::vector<Vec3> FaceArea; ///< scratch: area vectors of one condition's faces
   std::vector<std::vector<double>> Weights; ///< per condition, per point of its set: share
   std::vector<std::size_t> PullPoints;      ///< conditions that are Pull springs
   std::vector<double> Mass;
