@@ -56,36 +56,26 @@ std::vector<std::int32_t> slab(const std::vector<Vec3>& points, double fraction,
 
 std::vector<Condition> conditionsOf(const std::string& which, const std::vector<Vec3>& points)
 {
-  std::vector<Condition> out;
   if (which == "pinned array")
   {
-    return out;
+    return {};
   }
-  if (which == "Fixed condition")
-  {
-    Condition support;
-    support.name = "support";
-    support.points = slab(points, 0.1, false);
-    return { support };
-  }
+  Condition support;
+  support.name = "support";
+  support.points = slab(points, 0.1, false);
+  std::vector<Condition> out{ support };
   if (which == "support + force")
   {
-    Condition support;
-    support.name = "support";
-    support.points = slab(points, 0.1, false);
     Condition force;
     force.name = "force";
     force.kind = ConditionKind::Force;
     force.spread = ForceSpread::ByMass;
     force.force = Vec3(1.0, 0.0, 0.0);
     force.points = slab(points, 0.1, true);
-    out = { support, force };
+    out.push_back(force);
   }
-  else // pressure on every point: the whole surface
+  else if (which == "support + pressure") // on every point: the whole surface
   {
-    Condition support;
-    support.name = "support";
-    support.points = slab(points, 0.1, false);
     Condition gas;
     gas.name = "gas";
     gas.kind = ConditionKind::Pressure;
@@ -94,7 +84,7 @@ std::vector<Condition> conditionsOf(const std::string& which, const std::vector<
     {
       gas.points.push_back(static_cast<std::int32_t>(i));
     }
-    out = { support, gas };
+    out.push_back(gas);
   }
   return out;
 }

@@ -22,20 +22,6 @@ using namespace softbody;
 namespace
 {
 
-template <class Select>
-std::vector<std::int32_t> setWhere(const std::vector<Vec3>& points, Select&& select)
-{
-  std::vector<std::int32_t> set;
-  for (std::size_t i = 0; i < points.size(); ++i)
-  {
-    if (select(points[i]))
-    {
-      set.push_back(static_cast<std::int32_t>(i));
-    }
-  }
-  return set;
-}
-
 BodyDescription elasticBody(TetMesh mesh, MaterialModel model, double youngsModulus, double nu)
 {
   BodyDescription body;
@@ -102,13 +88,13 @@ TEST(Conditions, BarPulledAtItsEndStretchesByFLOverEAAndTheSupportAnswers)
          MaterialModel::SpringNetwork })
   {
     BodyDescription body = elasticBody(makeTetBox(10, 2, 2, 0.01), model, youngs, 0.0);
-    body.conditions.push_back(fixedAt(setWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
+    body.conditions.push_back(fixedAt(test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
     Condition pull;
     pull.name = "end load";
     pull.kind = ConditionKind::Force;
     pull.spread = ForceSpread::ByArea;
     pull.force = Vec3(force, 0, 0);
-    pull.points = setWhere(body.mesh.points, [&](const Vec3& p) { return p.x() > length - 1e-9; });
+    pull.points = test::indicesWhere(body.mesh.points, [&](const Vec3& p) { return p.x() > length - 1e-9; });
     body.conditions.push_back(pull);
     MassSpringSimulation sim(body, sceneWith(Integrator::Static));
     sim.advance(0.1);
@@ -142,12 +128,12 @@ TEST(Conditions, SupportReactionBalancesTheLoadAndTheWeight)
   // bar's sag (the elements' forces sum to zero). Every point of the support carries its share.
   const Vec3 gravity(0, 0, -9.81), force(0.3, 0.1, -0.2);
   BodyDescription body = elasticBody(makeTetBox(10, 2, 2, 0.01), MaterialModel::Corotated, 1e5, 0.3);
-  body.conditions.push_back(fixedAt(setWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
+  body.conditions.push_back(fixedAt(test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
   Condition load;
   load.name = "load";
   load.kind = ConditionKind::Force;
   load.force = force;
-  load.points = setWhere(body.mesh.points, [](const Vec3& p) { return p.x() > 0.1 - 1e-9; });
+  load.points = test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.x() > 0.1 - 1e-9; });
   body.conditions.push_back(load);
   MassSpringSimulation sim(body, sceneWith(Integrator::Static, gravity));
   sim.advance(0.1);
@@ -186,14 +172,14 @@ TEST(Conditions, TwistedBarAnswersWithTheTorsionMoment)
     const double cell = a / across;
     BodyDescription body = elasticBody(makeTetBox(across, across, 10 * across, cell),
       MaterialModel::Corotated, youngs, nu);
-    body.conditions.push_back(fixedAt(setWhere(body.mesh.points, [](const Vec3& p) { return p.z() < 1e-9; })));
+    body.conditions.push_back(fixedAt(test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.z() < 1e-9; })));
     Condition twist;
     twist.name = "twist";
     twist.kind = ConditionKind::Prescribed;
     twist.rotationAxis = Vec3::UnitZ();
     twist.rotationCenter = Vec3(a / 2, a / 2, length);
     twist.rotationAngle = theta;
-    twist.points = setWhere(body.mesh.points, [&](const Vec3& p) { return p.z() > length - 1e-9; });
+    twist.points = test::indicesWhere(body.mesh.points, [&](const Vec3& p) { return p.z() > length - 1e-9; });
     body.conditions.push_back(twist);
     MassSpringSimulation sim(body, sceneWith(Integrator::Static));
     sim.advance(0.1);
@@ -228,7 +214,7 @@ TEST(Conditions, PrescribedPointsFollowTheirKeyframesExactly)
   Condition drive;
   drive.name = "drive";
   drive.kind = ConditionKind::Prescribed;
-  drive.points = setWhere(mesh.points, [](const Vec3& p) { return p.z() < 1e-9; });
+  drive.points = test::indicesWhere(mesh.points, [](const Vec3& p) { return p.z() < 1e-9; });
   drive.translation = Vec3(0.05, -0.02, 0.01);
   drive.rotationAxis = Vec3(0, 0, 2);
   drive.rotationCenter = Vec3(0.15, 0.15, 0);
@@ -269,7 +255,7 @@ TEST(Conditions, RollerHoldsOnlyItsComponent)
   for (Integrator integrator : { Integrator::EulerCromer, Integrator::ImplicitEuler })
   {
     BodyDescription body = elasticBody(mesh, MaterialModel::StableNeoHookean, 1e4, 0.3);
-    Condition roller = fixedAt(setWhere(mesh.points, [](const Vec3&) { return true; }), "roller");
+    Condition roller = fixedAt(test::indicesWhere(mesh.points, [](const Vec3&) { return true; }), "roller");
     roller.heldAxes = { false, false, true };
     body.conditions.push_back(roller);
     const Vec3 gravity(-2.0, 0.0, -9.81);
@@ -308,7 +294,7 @@ TEST(Conditions, PressureInflatesAClosedBodyWithNoNetForce)
     inflate.name = "gas";
     inflate.kind = ConditionKind::Pressure;
     inflate.pressure = pressure;
-    inflate.points = setWhere(mesh.points, [](const Vec3& p) { return p.minCoeff() < 1e-9 || p.maxCoeff() > 1 - 1e-9; });
+    inflate.points = test::indicesWhere(mesh.points, [](const Vec3& p) { return p.minCoeff() < 1e-9 || p.maxCoeff() > 1 - 1e-9; });
     body.conditions.push_back(inflate);
     SceneSettings scene = sceneWith(Integrator::ImplicitEuler);
     scene.timeStep = 0.02;
@@ -338,7 +324,7 @@ TEST(Conditions, DeadLoadAcceleratesTheCentreOfMassAtFOverMInEveryIntegrator)
     push.name = "push";
     push.kind = ConditionKind::Force;
     push.spread = ForceSpread::PerPoint;
-    push.points = setWhere(mesh.points, [](const Vec3& p) { return p.x() < 1e-9; });
+    push.points = test::indicesWhere(mesh.points, [](const Vec3& p) { return p.x() < 1e-9; });
     push.force = force / static_cast<double>(push.points.size());
     body.conditions.push_back(push);
     SceneSettings scene = sceneWith(integrator);
@@ -365,11 +351,11 @@ TEST(Conditions, PullSpringBalancesItsSupport)
   // A cantilever's tip pulled sideways by a spring to a target: at rest the spring's force and
   // the support's reaction cancel, and the tip sits between its rest place and the target.
   BodyDescription body = elasticBody(makeTetBox(8, 2, 2, 0.01), MaterialModel::StableNeoHookean, 1e5, 0.3);
-  body.conditions.push_back(fixedAt(setWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
+  body.conditions.push_back(fixedAt(test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
   Condition pull;
   pull.name = "hand";
   pull.kind = ConditionKind::Pull;
-  pull.points = setWhere(body.mesh.points, [](const Vec3& p) { return p.x() > 0.08 - 1e-9; });
+  pull.points = test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.x() > 0.08 - 1e-9; });
   pull.pullTarget = Vec3(0.08, 0.05, 0.01);
   pull.pullStiffness = 2.0;
   body.conditions.push_back(pull);
@@ -388,7 +374,7 @@ TEST(Conditions, ReactionsComeInTheInputOrder)
 {
   // The reordered stepper reports reactions per input point, equal to the unreordered one's.
   BodyDescription body = elasticBody(makeTetBox(6, 2, 2, 0.01), MaterialModel::Corotated, 1e5, 0.3);
-  body.conditions.push_back(fixedAt(setWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
+  body.conditions.push_back(fixedAt(test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
   const SceneSettings scene = sceneWith(Integrator::Static, Vec3(0, 0, -9.81));
   auto reordered = makeMassSpringSimulation(body, scene, VertexOrdering::Morton);
   auto input = makeMassSpringSimulation(body, scene, VertexOrdering::Input);

@@ -4,6 +4,7 @@
 // stepper (test_conditions.cpp).
 #include "softbody/pbd/pbd_simulation.h"
 #include "pbd_test_bodies.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -22,20 +23,6 @@ PbdSettings settingsOf(PbdFormulation formulation, const Vec3& gravity)
   return settings;
 }
 
-template <class Select>
-std::vector<std::int32_t> setWhere(const std::vector<Vec3>& points, Select&& select)
-{
-  std::vector<std::int32_t> set;
-  for (std::size_t i = 0; i < points.size(); ++i)
-  {
-    if (select(points[i]))
-    {
-      set.push_back(static_cast<std::int32_t>(i));
-    }
-  }
-  return set;
-}
-
 constexpr PbdFormulation kBoth[] = { PbdFormulation::Pbd, PbdFormulation::Xpbd };
 
 } // namespace
@@ -48,7 +35,7 @@ TEST(PbdConditions, PrescribedPointsFollowTheirKeyframesExactly)
     Condition drive;
     drive.name = "drive";
     drive.kind = ConditionKind::Prescribed;
-    drive.points = setWhere(body.points, [](const Vec3& p) { return p.z() < 1e-9; });
+    drive.points = test::indicesWhere(body.points, [](const Vec3& p) { return p.z() < 1e-9; });
     drive.translation = Vec3(0.05, -0.02, 0.01);
     drive.rotationCenter = Vec3(0.15, 0.15, 0.0);
     drive.rotationAngle = 0.3;
@@ -82,7 +69,7 @@ TEST(PbdConditions, RollerHoldsOnlyItsComponent)
     PbdBody body = test::pbdBoxBody(2, 0.1);
     Condition roller;
     roller.name = "roller";
-    roller.points = setWhere(body.points, [](const Vec3&) { return true; });
+    roller.points = test::indicesWhere(body.points, [](const Vec3&) { return true; });
     roller.heldAxes = { false, false, true };
     body.conditions.push_back(roller);
     const std::vector<Vec3> rest = body.points;
@@ -108,7 +95,7 @@ TEST(PbdConditions, ForceMovesTheCentreOfMassAtFOverM)
     push.name = "push";
     push.kind = ConditionKind::Force;
     push.spread = ForceSpread::PerPoint;
-    push.points = setWhere(body.points, [](const Vec3& p) { return p.x() < 1e-9; });
+    push.points = test::indicesWhere(body.points, [](const Vec3& p) { return p.x() < 1e-9; });
     const Vec3 total(3.0, 0.0, 1.0);
     push.force = total / static_cast<double>(push.points.size());
     body.conditions.push_back(push);

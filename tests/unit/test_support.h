@@ -82,6 +82,21 @@ std::vector<char> pointsWhere(const std::vector<Vec3>& points, Select&& select)
   return flags;
 }
 
+/// The indices of the points where `select(point)` holds (a condition's set).
+template <class Select>
+std::vector<std::int32_t> indicesWhere(const std::vector<Vec3>& points, Select&& select)
+{
+  std::vector<std::int32_t> set;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    if (select(points[i]))
+    {
+      set.push_back(static_cast<std::int32_t>(i));
+    }
+  }
+  return set;
+}
+
 inline std::vector<Vec3> randomVectors(std::size_t count, double amplitude, unsigned seed = 11)
 {
   return jitter(std::vector<Vec3>(count, Vec3::Zero()), amplitude, seed);

@@ -407,6 +407,11 @@ void BoundaryConditions::addForce(const Condition& c, std::size_t k, double t,
 void BoundaryConditions::deadLoads(double t, const std::vector<Vec3>& x, std::vector<Vec3>& forces) const
 {
   forces.assign(Rest.size(), Vec3::Zero());
+  addForcesAndPressures(t, x, forces);
+}
+
+void BoundaryConditions::addForcesAndPressures(double t, const std::vector<Vec3>& x, std::vector<Vec3>& forces) const
+{
   for (std::size_t k = 0; k < Conditions.size(); ++k)
   {
     const Condition& c = Conditions[k];
@@ -459,18 +464,7 @@ void BoundaryConditions::pullStiffness(double t, std::vector<double>& k) const
 
 void BoundaryConditions::addLoads(double t, const std::vector<Vec3>& x, std::vector<Vec3>& forces) const
 {
-  for (std::size_t k = 0; k < Conditions.size(); ++k)
-  {
-    const Condition& c = Conditions[k];
-    if (c.kind == ConditionKind::Force)
-    {
-      addForce(c, k, t, forces);
-    }
-    else if (c.kind == ConditionKind::Pressure)
-    {
-      addPressure(c, k, t, x, forces);
-    }
-  }
+  addForcesAndPressures(t, x, forces);
   if (!PullPoints.empty())
   {
     addPullForces(t, x, forces);

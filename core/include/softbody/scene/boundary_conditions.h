@@ -113,6 +113,8 @@ private:
     std::vector<Vec3>& forces) const;
   void addForce(const Condition& c, std::size_t k, double t, std::vector<Vec3>& forces) const;
   void gatherFaces(std::size_t k); ///< FaceGathers[k] from Faces[k]
+  /// Adds the Force and Pressure conditions' forces at t and x.
+  void addForcesAndPressures(double t, const std::vector<Vec3>& x, std::vector<Vec3>& forces) const;
 
   std::vector<Condition> Conditions;
   std::vector<Vec3> Rest;
