@@ -204,7 +204,11 @@ void vtkSoftBodyFrameRunner::ApplyConditionsOf(int frame)
   }
   if (epoch != this->AppliedEpoch && epoch < this->ConditionEpochs.size())
   {
-    this->Built.Simulation->setConditionValues(this->ConditionEpochs[epoch].second);
+    // Every entry has the sets the simulation was built with (ChangeConditionsLive checked).
+    if (!this->Built.Simulation->setConditionValues(this->ConditionEpochs[epoch].second))
+    {
+      throw std::logic_error("a recorded condition change no longer fits the simulation");
+    }
     this->AppliedEpoch = epoch;
   }
 }

@@ -38,8 +38,7 @@ void IncrementalPotential::beginStep(
   LoadScale = 0.0;
   if (Conditions)
   {
-    HeldVelocity.resize(x0.size());
-    Conditions->holdPoints(EndTime, Target, HeldVelocity);
+    Conditions->holdPositions(EndTime, Target);
     if (Conditions->hasLoads())
     {
       Conditions->deadLoads(EndTime, x0, DeadLoad);
@@ -97,8 +96,7 @@ void IncrementalPotential::predict(std::vector<Vec3>& x, bool withGravity) const
   parallelFor(Target.size(), 4096, [&](std::size_t i) { x[i] = Active[i] ? Vec3(Target[i] + drift) : Target[i]; });
   if (Conditions && !Conditions->heldAxes().empty())
   {
-    std::vector<Vec3> unused(x.size());
-    Conditions->holdPoints(EndTime, x, unused);
+    Conditions->holdPositions(EndTime, x);
   }
 }
 

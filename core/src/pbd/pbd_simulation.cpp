@@ -140,8 +140,7 @@ void PbdSimulation::holdPredicted(double h)
   // constraints see them (and again after: a roller's free components move, its held ones not).
   if (!Conditions.heldAxes().empty())
   {
-    HeldVelocity.resize(Predicted.size());
-    Conditions.holdPoints(SubstepTime + h, Predicted, HeldVelocity);
+    Conditions.holdPositions(SubstepTime + h, Predicted);
   }
 }
 

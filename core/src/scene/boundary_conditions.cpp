@@ -316,6 +316,16 @@ Vec3 BoundaryConditions::heldPosition(const Condition& c, std::size_t i, double 
 
 void BoundaryConditions::holdPoints(double t, std::vector<Vec3>& x, std::vector<Vec3>& v) const
 {
+  holdComponents(t, x, &v);
+}
+
+void BoundaryConditions::holdPositions(double t, std::vector<Vec3>& x) const
+{
+  holdComponents(t, x, nullptr);
+}
+
+void BoundaryConditions::holdComponents(double t, std::vector<Vec3>& x, std::vector<Vec3>* v) const
+{
   for (const Condition& c : Conditions)
   {
     if (!c.holds())
@@ -328,13 +338,16 @@ void BoundaryConditions::holdPoints(double t, std::vector<Vec3>& x, std::vector<
       const std::size_t i = static_cast<std::size_t>(p);
       const Vec3 position = heldPosition(c, i, t);
       const Vec3 velocity =
-        c.kind == ConditionKind::Prescribed ? motion.velocity(Rest[i]) : Vec3::Zero();
+        v && c.kind == ConditionKind::Prescribed ? motion.velocity(Rest[i]) : Vec3::Zero();
       for (int axis = 0; axis < 3; ++axis)
       {
         if (c.heldAxes[static_cast<std::size_t>(axis)])
         {
           x[i][axis] = position[axis];
-          v[i][axis] = velocity[axis];
+          if (v)
+          {
+            (*v)[i][axis] = velocity[axis];
+          }
         }
       }
     }

@@ -141,7 +141,7 @@ protected:
   double LoadScale = 0.0;  ///< mass-weighted RMS acceleration of the loads at the start [m/s^2]
   double EndTime = 0.0;    ///< t0 + h: when the held points must be where Target has them
   std::vector<Vec3> X0, Target; ///< x0 and y (for held points: where they are at EndTime)
-  std::vector<Vec3> DeadLoad, PullForce, HeldVelocity; ///< [N], [N], unused velocities
+  std::vector<Vec3> DeadLoad, PullForce; ///< [N]
   std::vector<double> PullStiffness; ///< [N/m]
 };
 

@@ -131,7 +131,7 @@ private:
   PbdSettings Settings;
   std::vector<Vec3> Rest;
   BoundaryConditions Conditions; ///< loads and held points (scene/boundary_conditions.h)
-  std::vector<Vec3> LoadForce, HeldVelocity; ///< per substep [N]; unused velocities
+  std::vector<Vec3> LoadForce; ///< the conditions' loads of the substep [N]
   std::vector<double> InverseMass;
   std::vector<char> Movable;
   std::vector<std::int32_t> BodyOf; ///< point -> connected body (links and tet edges)

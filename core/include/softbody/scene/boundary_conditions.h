@@ -82,6 +82,8 @@ public:
 
   /// Sets the held components of x and v to their conditions' values at time t.
   void holdPoints(double t, std::vector<Vec3>& x, std::vector<Vec3>& v) const;
+  /// The same for the positions only (a solver's starting point).
+  void holdPositions(double t, std::vector<Vec3>& x) const;
   /// Zeroes the held components of `a` (accelerations or search directions).
   void filterHeld(std::vector<Vec3>& a) const;
   /// The held components' prescribed acceleration at t of point i [m/s^2] (0 for Fixed).
@@ -113,6 +115,8 @@ private:
     std::vector<Vec3>& forces) const;
   void addForce(const Condition& c, std::size_t k, double t, std::vector<Vec3>& forces) const;
   void gatherFaces(std::size_t k); ///< FaceGathers[k] from Faces[k]
+  /// holdPoints, and holdPositions when `v` is null.
+  void holdComponents(double t, std::vector<Vec3>& x, std::vector<Vec3>* v) const;
   /// Adds the Force and Pressure conditions' forces at t and x.
   void addForcesAndPressures(double t, const std::vector<Vec3>& x, std::vector<Vec3>& forces) const;
 
