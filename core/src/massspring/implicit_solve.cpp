@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace softbody
 {
@@ -16,13 +17,13 @@ namespace
 
 constexpr double kArmijo = 1e-4; // sufficient decrease of Phi along a Newton direction
 constexpr int kMaxHalvings = 40; // 2^-40: the direction is useless long before
-/// A free point closer to the floor than this fraction of its approach in a full step is held
-/// on the floor before the line search (see holdPointsOnTheFloorPath).
+/// A free point closer to its plane than this fraction of its approach in a full step is held
+/// on it before the line search (see holdPointsOnThePath).
 constexpr double kHoldFraction = 1e-3;
 /// Direction solves per iteration while new points get held (then the line search's ratio
 /// test takes care of the rest).
 constexpr int kMaxHoldSolves = 3;
-/// Step halvings tried along the path bent by the floor before the straight one.
+/// Step halvings tried along the path bent by the contacts before the straight one.
 constexpr int kBentHalvings = 8;
 
 double dot(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
@@ -43,11 +44,10 @@ ImplicitStepSolver::ImplicitStepSolver(
   , Settings(scene.implicit)
   , Search(lineSearch)
   , GravityNorm(scene.gravity.norm())
-  , Floor(scene.floorActive())
-  , FloorOrigin(scene.floor.origin)
+  , Planes(scene.floorActive() ? std::optional<FloorPlane>(scene.floor) : std::nullopt)
   , Friction(scene.collisions)
 {
-  Filter.normal = scene.floor.normal.normalized();
+  Filter.planes = &Planes;
 }
 
 void ImplicitStepSolver::filterGradient()
@@ -60,7 +60,7 @@ void ImplicitStepSolver::filterGradient()
 double ImplicitStepSolver::filteredResidual(
   const std::vector<Vec3>& gradient, const std::vector<PointMotion>& motion)
 {
-  const MotionFilter filter{ motion, Filter.normal, Filter.heldAxes };
+  const MotionFilter filter{ motion, Filter.planes, Filter.heldAxes };
   Scratch.resize(gradient.size());
   parallelFor(gradient.size(), 4096, [&](std::size_t i) { Scratch[i] = filter.apply(i, gradient[i]); });
   return Potential.residualAcceleration(Scratch);
@@ -77,10 +77,10 @@ std::size_t ImplicitStepSolver::capture(std::vector<Vec3>& x, std::vector<PointM
   return parallelReduce(
     x.size(), 4096, std::size_t{ 0 },
     [&](std::size_t i) -> std::size_t {
-      const double depth = (x[i] - FloorOrigin).dot(Filter.normal);
+      const double depth = Planes.depth(i, x[i]);
       if (motion[i] != PointMotion::Fixed && depth < 0.0)
       {
-        x[i] -= depth * Filter.normal;
+        x[i] -= depth * Planes.of(i).normal;
         const bool added = motion[i] == PointMotion::Free;
         motion[i] = PointMotion::OnPlane;
         return added ? 1 : 0;
@@ -90,20 +90,24 @@ std::size_t ImplicitStepSolver::capture(std::vector<Vec3>& x, std::vector<PointM
     sum);
 }
 
-std::size_t ImplicitStepSolver::holdPointsOnTheFloorPath()
+std::size_t ImplicitStepSolver::holdPointsOnThePath()
 {
-  // A free point on the floor (or within a tiny fraction of this step above it) that the
+  // A free point on its plane (or within a tiny fraction of this step in front of it) that the
   // direction drives into it would stop every step length at almost nothing: hold it now, so
-  // the direction slides it along the floor instead.
+  // the direction slides it along the plane instead.
   return parallelReduce(
     X.size(), 4096, std::size_t{ 0 },
     [&](std::size_t i) -> std::size_t {
-      const double approach = -Direction[i].dot(Filter.normal);
-      if (Filter.motion[i] != PointMotion::Free || !(approach > 0.0))
+      if (Filter.motion[i] != PointMotion::Free || !Planes.has(i))
       {
         return 0;
       }
-      const double depth = (X[i] - FloorOrigin).dot(Filter.normal);
+      const double approach = -Direction[i].dot(Planes.of(i).normal);
+      if (!(approach > 0.0))
+      {
+        return 0;
+      }
+      const double depth = Planes.depth(i, X[i]);
       if (depth > kHoldFraction * approach)
       {
         return 0;
@@ -115,27 +119,32 @@ std::size_t ImplicitStepSolver::holdPointsOnTheFloorPath()
     sum);
 }
 
-double ImplicitStepSolver::floorReach() const
+double ImplicitStepSolver::contactReach() const
 {
   // The ratio test of active-set methods: the largest alpha <= 1 at which no free point has
-  // crossed the floor.
+  // crossed its plane.
   return parallelReduce(
     X.size(), 4096, 1.0,
     [&](std::size_t i) {
-      const double approach = -Direction[i].dot(Filter.normal);
-      if (Filter.motion[i] != PointMotion::Free || !(approach > 0.0))
+      if (Filter.motion[i] != PointMotion::Free || !Planes.has(i))
       {
         return 1.0;
       }
-      return std::max(0.0, (X[i] - FloorOrigin).dot(Filter.normal)) / approach;
+      const double approach = -Direction[i].dot(Planes.of(i).normal);
+      if (!(approach > 0.0))
+      {
+        return 1.0;
+      }
+      return std::max(0.0, Planes.depth(i, X[i])) / approach;
     },
     [](double a, double b) { return std::min(a, b); });
 }
 
-bool ImplicitStepSolver::withinFrictionCone(const Vec3& force) const
+bool ImplicitStepSolver::withinFrictionCone(std::size_t i, const Vec3& force) const
 {
-  const double normal = force.dot(Filter.normal);
-  return normal > 0.0 && (force - normal * Filter.normal).norm() <= Friction.staticFriction * normal;
+  const Vec3& n = Planes.of(i).normal;
+  const double normal = force.dot(n);
+  return normal > 0.0 && (force - normal * n).norm() <= Friction.staticFriction * normal;
 }
 
 std::size_t ImplicitStepSolver::release()
@@ -143,19 +152,19 @@ std::size_t ImplicitStepSolver::release()
   return parallelReduce(
     X.size(), 4096, std::size_t{ 0 },
     [&](std::size_t i) -> std::size_t {
-      // Held, and Phi drops by lifting it (its gradient points into the floor): let go.
+      // Held, and Phi drops by lifting it (its gradient points into the plane): let go.
       // (Only when the pull is above the tolerance: a point whose pull is within it would be
       // put back at once, and each round trip costs a solve.)
       if (Filter.motion[i] == PointMotion::OnPlane &&
-        Gradient[i].dot(Filter.normal) * Potential.inverseMass(i) < -Goal)
+        Gradient[i].dot(Planes.of(i).normal) * Potential.inverseMass(i) < -Goal)
       {
         Filter.motion[i] = PointMotion::Free;
         return 1;
       }
       // Stuck by static friction, and the force that takes has left the friction cone (it
-      // is pulled off the floor, or along it harder than staticFriction times the push): it
+      // is pulled off its plane, or along it harder than staticFriction times the push): it
       // slides from here on, in this solve.
-      if (Stuck[i] && !withinFrictionCone(Gradient[i]))
+      if (Stuck[i] && !withinFrictionCone(i, Gradient[i]))
       {
         Stuck[i] = 0;
         Filter.motion[i] = PointMotion::OnPlane;
@@ -168,7 +177,7 @@ std::size_t ImplicitStepSolver::release()
 
 bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, ImplicitConvergence& c)
 {
-  // The direction, solved again while it drives points lying on the floor into it: holding
+  // The direction, solved again while it drives points lying on their plane into it: holding
   // them changes the system (cutting their motion out of a stiff body's direction afterwards
   // would leave a direction that strains it enormously).
   for (int solve = 0; solve < kMaxHoldSolves; ++solve)
@@ -178,7 +187,7 @@ bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, Impl
     c.linearIterationsTotal += static_cast<unsigned long long>(rule(at, Direction));
     Restart = false;
     ScopedStageTimer timer(plan, Stage::Floor);
-    if (!Floor || holdPointsOnTheFloorPath() == 0)
+    if (!contacts() || holdPointsOnThePath() == 0)
     {
       break;
     }
@@ -201,8 +210,8 @@ bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, Impl
       return false; // zero filtered gradient: nothing left to do
     }
   }
-  const double reach = Floor ? floorReach() : 1.0; // before a free point crosses the floor
-  // First the full step with the points that would cross the floor stopped on it (a bent
+  const double reach = contacts() ? contactReach() : 1.0; // before a free point crosses its plane
+  // First the full step with the points that would cross their plane stopped on it (a bent
   // path: the Armijo test then asks for a decrease along the displacement actually taken).
   // That is what lets a body settle onto the floor in a few iterations; a stiff body pressed
   // against it can find no such step (stopping a few points strains it enormously), and then
@@ -211,7 +220,7 @@ bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, Impl
   double trialEnergy = Energy;
   bool accepted = false;
   std::size_t captured = 0;
-  for (int halving = 0; Floor && reach < 1.0 && halving < kBentHalvings && !accepted; ++halving)
+  for (int halving = 0; contacts() && reach < 1.0 && halving < kBentHalvings && !accepted; ++halving)
   {
     Trial.resize(X.size());
     parallelFor(X.size(), 4096, [&](std::size_t i) { Trial[i] = X[i] + alpha * Direction[i]; });
@@ -272,9 +281,9 @@ bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, Impl
   std::swap(X, Trial);
   std::swap(Gradient, TrialGradient);
   Energy = trialEnergy;
-  // The points that stopped the step reached the floor: from now on they slide along it.
+  // The points that stopped the step reached their plane: from now on they slide along it.
   const std::size_t landed = captured +
-    ((Floor && alpha == reach && reach < 1.0) ? capture(X, Filter.motion) : 0);
+    ((contacts() && alpha == reach && reach < 1.0) ? capture(X, Filter.motion) : 0);
   if (landed > captured)
   {
     Energy = Potential.evaluate(X, Gradient); // they moved by rounding onto the plane
@@ -285,13 +294,17 @@ bool ImplicitStepSolver::iterate(StepPlan& plan, const DirectionRule& rule, Impl
   return !(flatEnergy && Residual > 0.5 * previousResidual && landed == 0);
 }
 
-void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
+void ImplicitStepSolver::solve(double h, const DynamicState& state, StepPlan& plan,
   const DirectionRule& rule, ImplicitConvergence& c)
 {
   {
     ScopedStageTimer timer(plan, Stage::Forces);
     Potential.beginStep(state.positions, state.velocities, h, state.time);
     Filter.heldAxes = Potential.heldAxes();
+    if (contacts() && Planes.pointCount() != state.positions.size())
+    {
+      Planes.reset(state.positions.size()); // the floor's plane for every point
+    }
     TrialGradient.resize(state.positions.size());
     // Two starting points, keep the lower Phi: the explicit prediction y + h^2 g is exact in
     // free fall; y alone is far better for a body resting on the floor (gravity's drift would
@@ -305,9 +318,9 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
       {
         TrialMotion[i] = Potential.active()[i] ? PointMotion::Free : PointMotion::Fixed;
       }
-      if (Floor)
+      if (contacts())
       {
-        capture(Trial, TrialMotion); // the points whose start lies below the floor
+        capture(Trial, TrialMotion); // the points whose start lies behind their plane
       }
       const double energy = Potential.evaluate(Trial, TrialGradient);
       if (energy < bestEnergy)
@@ -316,17 +329,23 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
         std::swap(X, Trial);
         std::swap(Filter.motion, TrialMotion);
       }
-      if (!Floor)
+      if (!contacts())
       {
         break; // without contact the prediction is always the better start
       }
     }
     Stuck.resize(X.size(), 0);
-    for (std::size_t i = 0; Floor && i < X.size(); ++i)
+    for (std::size_t i = 0; i < X.size(); ++i)
     {
+      if (Stuck[i] && (!contacts() || !Planes.has(i)))
+      {
+        Stuck[i] = 0; // its surface is no longer near (a moving obstacle left it)
+      }
       if (Stuck[i])
       {
-        X[i] = state.positions[i]; // where static friction holds it (on the floor)
+        // Where static friction holds it: on its surface, moved with it.
+        const Vec3& surfaceVelocity = Planes.of(i).velocity;
+        X[i] = surfaceVelocity.isZero() ? state.positions[i] : Vec3(state.positions[i] + h * surfaceVelocity);
         Filter.motion[i] = PointMotion::Fixed;
       }
     }
@@ -340,7 +359,7 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
   Restart = true;
   while (c.iterations < Settings.maxIterations)
   {
-    if (Floor)
+    if (contacts())
     {
       ScopedStageTimer timer(plan, Stage::Floor);
       if (release() > 0)
@@ -358,6 +377,12 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
     }
   }
 
+}
+
+void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
+  const DirectionRule& rule, ImplicitConvergence& c)
+{
+  solve(h, state, plan, rule, c);
   c.residual = Residual / Reference;
   c.converged = Goal > 0.0 ? Residual <= Goal : true;
   ++c.steps;
@@ -376,33 +401,37 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
 
 Vec3 ImplicitStepSolver::endVelocity(std::size_t i, double h, const std::vector<Vec3>& start)
 {
-  const Vec3& n = Filter.normal;
   if (Stuck[i])
   {
-    // Held in place through the solve (release() frees it during the solve once the force it
-    // takes leaves the friction cone; this is the final check).
-    Stuck[i] = withinFrictionCone(Gradient[i]) ? 1 : 0;
-    return Vec3::Zero();
+    // Held on its surface through the solve (release() frees it during the solve once the
+    // force it takes leaves the friction cone; this is the final check).
+    Stuck[i] = withinFrictionCone(i, Gradient[i]) ? 1 : 0;
+    return Planes.of(i).velocity;
   }
-  Vec3 v = (X[i] - start[i]) / h;
+  const Vec3 v = (X[i] - start[i]) / h;
   if (Filter.motion[i] != PointMotion::OnPlane)
   {
     return v;
   }
-  // Inelastic contact: a point held on the floor keeps no speed into it.
-  v -= std::min(0.0, v.dot(n)) * n;
-  // Coulomb friction on its slip (the floor inside the solve only holds points on the plane):
-  // the plane's push over the step is the normal part of the potential's gradient at the
-  // solution (the force the filter keeps the point from following), as a speed h F_n / m. The
-  // slip of the step changes with the velocity; a point that sticks stays where the step began
-  // and is held there through the next solves (Stuck) rather than put back after each, which
-  // would strain a stiff body anew every step.
+  const ContactPlane& plane = Planes.of(i);
+  const Vec3& n = plane.normal;
+  // Inelastic contact: a point held on its plane keeps no speed into it (relative to it).
+  Vec3 relative = v - plane.velocity;
+  relative -= std::min(0.0, relative.dot(n)) * n;
+  // Coulomb friction on its slip (the plane inside the solve only holds points on it): the
+  // plane's push over the step is the normal part of the potential's gradient at the solution
+  // (the force the filter keeps the point from following), as a speed h F_n / m. The slip of
+  // the step changes with the velocity; a point that sticks stays on its surface where the step
+  // began and is held there through the next solves (Stuck) rather than put back after each,
+  // which would strain a stiff body anew every step.
   const double push = h * std::max(0.0, Gradient[i].dot(n)) * Potential.inverseMass(i);
   bool sticks = false;
-  const Vec3 change = coulombFrictionChange(v - v.dot(n) * n, push, Friction, sticks);
+  const Vec3 change = coulombFrictionChange(relative - relative.dot(n) * n, push, Friction, sticks);
   X[i] += h * change;
   Stuck[i] = sticks ? 1 : 0;
-  return v + change;
+  // (A static surface's velocity is not added: 0 + -0 would turn the sign of a zero, and the
+  // floor's results are kept to the bit.)
+  return plane.velocity.isZero() ? Vec3(relative + change) : Vec3(plane.velocity + relative + change);
 }
 
 } // namespace softbody

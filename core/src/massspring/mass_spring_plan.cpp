@@ -62,8 +62,9 @@ StepPlan planMassSpring(const SceneSettings& scene, const std::string& elements,
   StepPlan plan;
   addIntegration(plan, scene, elements);
   const bool implicit = isImplicit(scene.integrator);
-  // The implicit integrators keep the floor in their solve (a step may not cross it); what
-  // else they touch is resolved after the step like the explicit integrators' contacts.
+  // The implicit integrators keep the floor and the obstacles in their solve (a step may not
+  // cross them); the bodies' contacts are resolved after the step like the explicit
+  // integrators' contacts.
   if (implicit && scene.floorActive())
   {
     plan.add(Stage::Floor, implicitFloorLabel(scene.collisions));
@@ -76,7 +77,7 @@ StepPlan planMassSpring(const SceneSettings& scene, const std::string& elements,
     auto join = [&](const char* part) { what += (what.empty() ? "" : ", ") + std::string(part); };
     if (hasObstacles)
     {
-      join("obstacles");
+      join(implicit ? "obstacles (held in the solve)" : "obstacles");
     }
     if (bodies)
     {

@@ -10,6 +10,7 @@
 #include "softbody/common/stepping.h"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 
 
@@ -212,6 +213,15 @@ void MassSpringSimulation::integrateImplicit(double h)
 
 void MassSpringSimulation::stepOnce(double h)
 {
+  if (Implicit && HasObstacles && Detector)
+  {
+    findObstaclePlanes(h);
+  }
+  takeStep(h);
+}
+
+void MassSpringSimulation::takeStep(double h)
+{
   if (Plan.runs(Stage::CollisionDetect))
   {
     StepStart = State.positions;
@@ -241,6 +251,24 @@ void MassSpringSimulation::stepOnce(double h)
   }
 }
 
+void MassSpringSimulation::findObstaclePlanes(double h)
+{
+  // The obstacle faces each point may reach in the step, from a sweep to the explicit
+  // prediction x0 + h v0 + h^2 g: the implicit solve then keeps the points in front of them
+  // (contact_planes.h).
+  ScopedStageTimer timer(Plan, Stage::CollisionDetect);
+  const std::vector<double>& w = Masses.inverseMass;
+  Predicted.resize(State.positions.size());
+  parallelFor(Predicted.size(), 4096, [&](std::size_t i) {
+    Predicted[i] = w[i] == 0.0 ? State.positions[i]
+                               : Vec3(State.positions[i] + h * State.velocities[i] + (h * h) * Scene.gravity);
+  });
+  Detector->detect(State.positions, Predicted, State.time, h, PlaneContacts);
+  ContactPlanes& planes = Implicit->contactPlanes();
+  planes.reset(State.positions.size());
+  planes.addObstacleContacts(PlaneContacts, State.positions, Predicted);
+}
+
 void MassSpringSimulation::resolveContacts(double h)
 {
   {
@@ -248,9 +276,31 @@ void MassSpringSimulation::resolveContacts(double h)
     // Swept from the step's start: a point that crossed something within the step is found.
     Detector->detect(StepStart, State.positions, State.time - h, h, Contacts);
   }
+  if (Implicit && HasObstacles)
+  {
+    dropObstacleContactsHeldInTheSolve();
+  }
   ScopedStageTimer timer(Plan, Stage::Contacts);
   ContactStats = respondToContacts(Contacts, Scene.collisions, Masses.inverseMass, StepStart, h,
     State.positions, State.velocities);
+}
+
+void MassSpringSimulation::dropObstacleContactsHeldInTheSolve()
+{
+  // The implicit solve held its points on the obstacles' planes and gave them the contact
+  // response (inelastic, friction): responding again would apply friction twice. What is left
+  // for the response is a point deeper than the solve's rounding: one whose plane did not
+  // cover its obstacle (a concave face, a face it was not heading for at the step's start).
+  std::erase_if(Contacts, [&](const Contact& c) {
+    if (c.kind != ContactKind::Obstacle)
+    {
+      return false;
+    }
+    const Vec3& x = State.positions[static_cast<std::size_t>(c.point)];
+    const double C = c.normal.dot(x - c.surfacePoint) - c.thickness;
+    const double rounding = 1.0e-6 * c.thickness + 64.0 * std::numeric_limits<double>::epsilon() * x.norm();
+    return C >= -rounding;
+  });
 }
 
 void MassSpringSimulation::setObstacles(std::vector<ObstacleSurface> obstacles, double endTime)

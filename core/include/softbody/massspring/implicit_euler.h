@@ -29,6 +29,7 @@ public:
 
   const ImplicitConvergence& convergence() const override { return Convergence; }
   IncrementalPotential& potential() override { return *Potential; }
+  ContactPlanes& contactPlanes() override { return Solver.contactPlanes(); }
   /// CG iteration limit per Newton iteration.
   static constexpr int kMaxLinearIterations = 2000;
 

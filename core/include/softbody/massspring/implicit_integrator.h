@@ -7,6 +7,7 @@
 
 #include "softbody/common/state.h"
 #include "softbody/common/step_plan.h"
+#include "softbody/massspring/contact_planes.h"
 #include "softbody/massspring/implicit_convergence.h"
 #include "softbody/massspring/mass_spring_settings.h"
 #include "softbody/massspring/model_potential_factory.h"
@@ -28,6 +29,9 @@ public:
   virtual const ImplicitConvergence& convergence() const = 0;
   /// The incremental potential the steps minimize (its loads and held points are set on it).
   virtual IncrementalPotential& potential() = 0;
+  /// The contact planes the steps keep points on (the floor's; the owner adds the obstacles'
+  /// before each step).
+  virtual ContactPlanes& contactPlanes() = 0;
 };
 
 /// The strategy for scene.integrator (which must be implicit), over the prepared body.

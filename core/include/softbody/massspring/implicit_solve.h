@@ -2,15 +2,18 @@
 // potential (incremental_potential.h) from the explicit prediction, along the descent
 // directions the integrator supplies (Newton + PCG, or Projective Dynamics' prefactored solve),
 // with a backtracking line search on Phi, until the residual acceleration is below the
-// tolerance. The floor is an inequality handled inside the solve by an active set updated at
-// every iteration (a primal active-set method): the line search starts from the longest step
-// at which no free point crosses the floor (the ratio test), points that reach it are held on
-// it and from then on slide along it (the motion filter), and a held point the floor would
-// have to pull down (Phi's gradient pointing into the floor) is released. So the floor holds
-// exactly at every iterate and the rest of the body answers it in the same step, instead of
-// being crushed by a projection afterwards. Contact is inelastic, with Coulomb friction: a point
-// static friction holds is fixed through the next step's solve (Stuck), and a point held on the
-// floor leaves the step with the floor's contact response (endVelocity).
+// tolerance. The floor and the obstacles are inequalities handled inside the solve, each point
+// against its contact plane (contact_planes.h: the floor, or the obstacle face it is heading
+// for), by an active set updated at every iteration (a primal active-set method): the line
+// search starts from the longest step at which no free point crosses its plane (the ratio test,
+// a continuous collision check along the search path), points that reach it are held on it and
+// from then on slide along it (the motion filter), and a held point its plane would have to
+// pull back (Phi's gradient pointing into it) is released. So contacts hold exactly at every
+// iterate and the rest of the body answers them in the same step, instead of being crushed by
+// a projection afterwards. Contact is inelastic, with Coulomb friction on the slip relative to
+// the surface: a point static friction holds moves with its surface through the next step's
+// solve (Stuck), and a point held on a plane leaves the step with the contact response
+// (endVelocity).
 #pragma once
 
 #include "softbody/common/state.h"
@@ -60,37 +63,47 @@ public:
   void step(double h, DynamicState& state, StepPlan& plan, const DirectionRule& direction,
     ImplicitConvergence& convergence);
 
+  /// The contact planes of the coming steps: the floor's alone unless the owner adds the
+  /// obstacles' before each step (ContactPlanes::reset, addObstacleContacts).
+  ContactPlanes& contactPlanes() { return Planes; }
+
 private:
+  /// Minimizes Phi over the step from `state` (fills X, Gradient; counts c.iterations, keeps
+  /// c.residualHistory); the stuck points are held.
+  void solve(double h, const DynamicState& state, StepPlan& plan, const DirectionRule& direction,
+    ImplicitConvergence& c);
   /// One descent iteration with its line search; false when it cannot make progress.
   bool iterate(StepPlan& plan, const DirectionRule& direction, ImplicitConvergence& c);
   void evaluateAtX();
   void filterGradient();
   /// The residual acceleration of `gradient` filtered by `motion`.
   double filteredResidual(const std::vector<Vec3>& gradient, const std::vector<PointMotion>& motion);
-  /// Puts the free points of `x` that lie below the floor on it, held (OnPlane) in `motion`.
+  /// Whether some point has a contact plane.
+  bool contacts() const { return !Planes.empty(); }
+  /// Puts the free points of `x` that lie behind their plane on it, held (OnPlane) in `motion`.
   std::size_t capture(std::vector<Vec3>& x, std::vector<PointMotion>& motion) const;
-  /// Releases held points the floor would have to pull down, and stuck points whose force has
-  /// left the friction cone.
+  /// Releases held points their plane would have to pull back, and stuck points whose force
+  /// has left the friction cone.
   std::size_t release();
-  /// Whether the floor can give a stuck point `force` (the potential's gradient there): a push,
-  /// with a tangential part of at most staticFriction times it.
-  bool withinFrictionCone(const Vec3& force) const;
-  /// Holds free points on (or all but on) the floor that the search direction drives into it.
-  std::size_t holdPointsOnTheFloorPath();
-  /// The longest step length (<= 1) along the direction before a free point crosses the floor.
-  double floorReach() const;
-  /// After the solve: point i's velocity from its motion over the step (0 for a stuck point),
-  /// with the floor's contact response (inelastic, Coulomb friction) for a point held on it.
+  /// Whether point i's plane can give it `force` (the potential's gradient there): a push, with
+  /// a tangential part of at most staticFriction times it.
+  bool withinFrictionCone(std::size_t i, const Vec3& force) const;
+  /// Holds free points on (or all but on) their plane that the search direction drives into it.
+  std::size_t holdPointsOnThePath();
+  /// The longest step length (<= 1) along the direction before a free point crosses its plane.
+  double contactReach() const;
+  /// After the solve: point i's velocity from its motion over the step (its surface's for a
+  /// stuck point), with the contact response (inelastic, Coulomb friction) for a point held on
+  /// its plane.
   Vec3 endVelocity(std::size_t i, double h, const std::vector<Vec3>& start);
 
   IncrementalPotential& Potential;
   ImplicitSettings Settings;
   LineSearch Search;
   double GravityNorm;
-  bool Floor;
-  Vec3 FloorOrigin;
-  CollisionSettings Friction; ///< the floor's static and dynamic friction
-  /// Points that static friction holds where they are on the floor: fixed through the next
+  ContactPlanes Planes;
+  CollisionSettings Friction; ///< the contacts' static and dynamic friction
+  /// Points that static friction holds on their plane: moved with its surface through the next
   /// step's solve, then kept while the force that took stays within the friction cone.
   std::vector<char> Stuck;
   MotionFilter Filter;

@@ -78,7 +78,8 @@ public:
   std::string longRunWarning(double duration) const override;
 
   /// Obstacles are collided with (unless Collisions is Off, which ignores them): detected
-  /// after each step and resolved like every contact (contact_response.h).
+  /// after each step and resolved like every contact (contact_response.h); the implicit
+  /// integrators hold them inside their solve (contact_planes.h), as they hold the floor.
   bool supportsObstacles() const override { return true; }
   void setObstacles(std::vector<ObstacleSurface> obstacles, double endTime) override;
   /// The contacts of the last step and what their response did (tests, diagnostics); the
@@ -105,6 +106,12 @@ private:
   void integrateImplicit(double h);
   void checkDivergence() const;
   void resolveContacts(double h);
+  /// One step of h (stepOnce first finds the obstacle planes of an implicit step).
+  void takeStep(double h);
+  /// Implicit integrators: the obstacle planes of the coming step of h (contact_planes.h).
+  void findObstaclePlanes(double h);
+  /// Implicit integrators: drops the obstacle contacts their solve already held.
+  void dropObstacleContactsHeldInTheSolve();
 
   SceneSettings Scene;
   TetMesh Mesh;
@@ -133,6 +140,9 @@ private:
   bool HasObstacles = false; // the plan lists the collision stages for them
   std::vector<Vec3> StepStart;
   ContactSet Contacts;
+  // Implicit integrators with obstacles: the step's prediction and the contacts swept to it.
+  std::vector<Vec3> Predicted;
+  ContactSet PlaneContacts;
   ContactResponseStats ContactStats;
 };
 

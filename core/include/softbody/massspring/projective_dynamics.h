@@ -53,6 +53,7 @@ public:
 
   const ImplicitConvergence& convergence() const override { return Convergence; }
   IncrementalPotential& potential() override { return *Potential; }
+  ContactPlanes& contactPlanes() override { return Solver.contactPlanes(); }
   /// Wall time of the last factorization [s], and the factor's nonzeros (its memory is about
   /// 12 bytes each).
   double factorSeconds() const { return FactorSeconds; }

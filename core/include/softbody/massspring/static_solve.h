@@ -31,6 +31,7 @@ public:
   void step(double h, DynamicState& state, StepPlan& plan) override;
   const ImplicitConvergence& convergence() const override { return Newton->convergence(); }
   IncrementalPotential& potential() override { return Newton->potential(); }
+  ContactPlanes& contactPlanes() override { return Newton->contactPlanes(); }
 
 private:
   // The body's constants without damping: at equilibrium nothing moves.

@@ -1,0 +1,70 @@
+// The planes an implicit step keeps each point on the free side of: the floor, and the obstacle
+// face each point is heading for in the step. The implicit solve (implicit_solve.h) treats them
+// as one active set: a point that reaches its plane is held on it and slides along it, so
+// obstacles hold inside the minimization as the floor does, and the rest of the body answers
+// the contact in the same step instead of being crushed by a projection after it.
+//
+// One plane per point, linearized at the step's start: the obstacle face a point would reach is
+// found by the swept detector (collision_detector.h) from its start to the step's explicit
+// prediction, and replaced by its tangent plane at the closest point, lifted by the contact's
+// thickness (the margin). A flat obstacle (a ramp, a wall, a box face) is then exact; on a
+// curved one the tangent plane is off by the curvature over the point's slip in one step (outside
+// a convex obstacle, so it never lets a point in; inside a concave one by at most that much,
+// which the contact response after the step removes). A point near two faces (a crease, the
+// ramp's foot on the floor) keeps the one its prediction lies deepest behind.
+#pragma once
+
+#include "softbody/collision/contact.h"
+#include "softbody/common/floor_plane.h"
+#include "softbody/common/geometry.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace softbody
+{
+
+/// The free side is (x - origin) . normal >= 0; `velocity` is the surface's, for friction.
+struct ContactPlane
+{
+  Vec3 origin = Vec3::Zero();
+  Vec3 normal = Vec3::UnitZ(); ///< unit length
+  Vec3 velocity = Vec3::Zero(); ///< [m/s]
+};
+
+class ContactPlanes
+{
+public:
+  /// `floor`: the plane every point is held above (already lifted by the contact margin), or
+  /// none.
+  explicit ContactPlanes(std::optional<FloorPlane> floor = std::nullopt);
+
+  /// Every one of `pointCount` points gets the floor (or no plane); obstacle planes are gone.
+  void reset(std::size_t pointCount);
+  /// Adds the planes of the Obstacle contacts of `detected` (the detector's contacts of the
+  /// sweep from `start` to `predicted`; others are skipped): a point keeps, of its planes and the
+  /// floor, the one `predicted` lies deepest behind (or least in front of). A point that starts
+  /// behind a face is reached from the wrong side (the underside of a thin plate it crossed):
+  /// such faces count only when the point starts behind all of its faces (a body started inside
+  /// an obstacle: the nearest face pushes it out), as in the contact response.
+  void addObstacleContacts(const ContactSet& detected, const std::vector<Vec3>& start,
+    const std::vector<Vec3>& predicted);
+
+  bool empty() const { return Planes.empty(); }
+  std::size_t pointCount() const { return PlaneOf.size(); }
+  std::size_t obstaclePlaneCount() const { return Planes.size() - (Floor ? 1 : 0); }
+  bool has(std::size_t i) const { return PlaneOf[i] >= 0; }
+  /// Point i's plane (has(i) must hold).
+  const ContactPlane& of(std::size_t i) const { return Planes[static_cast<std::size_t>(PlaneOf[i])]; }
+  /// Signed distance of x to point i's plane [m]; +infinity when it has none.
+  double depth(std::size_t i, const Vec3& x) const;
+
+private:
+  std::optional<FloorPlane> Floor;
+  std::vector<ContactPlane> Planes; ///< the floor first (when there is one), then obstacle faces
+  std::vector<std::int32_t> PlaneOf; ///< per point, its plane in Planes; -1 for none
+};
+
+} // namespace softbody

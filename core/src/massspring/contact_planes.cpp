@@ -1,0 +1,77 @@
+#include "softbody/massspring/contact_planes.h"
+
+#include <limits>
+
+namespace softbody
+{
+
+ContactPlanes::ContactPlanes(std::optional<FloorPlane> floor)
+  : Floor(floor)
+{
+  if (Floor)
+  {
+    Planes.push_back(ContactPlane{ Floor->origin, Floor->normal.normalized(), Vec3::Zero() });
+  }
+}
+
+void ContactPlanes::reset(std::size_t pointCount)
+{
+  Planes.resize(Floor ? 1 : 0);
+  PlaneOf.assign(pointCount, Floor ? 0 : -1);
+}
+
+double ContactPlanes::depth(std::size_t i, const Vec3& x) const
+{
+  if (PlaneOf[i] < 0)
+  {
+    return std::numeric_limits<double>::infinity();
+  }
+  const ContactPlane& p = of(i);
+  return (x - p.origin).dot(p.normal);
+}
+
+void ContactPlanes::addObstacleContacts(
+  const ContactSet& detected, const std::vector<Vec3>& start, const std::vector<Vec3>& predicted)
+{
+  // The contact set is sorted by point: each point's obstacle contacts are one run of it, read
+  // in order, so the planes and their numbering do not depend on the thread count.
+  for (std::size_t k = 0; k < detected.size();)
+  {
+    const std::int32_t point = detected[k].point;
+    std::size_t end = k;
+    bool someInFront = false;
+    while (end < detected.size() && detected[end].point == point)
+    {
+      const Contact& c = detected[end];
+      someInFront = someInFront ||
+        (c.kind == ContactKind::Obstacle && c.normal.dot(start[point] - c.surfacePoint) >= 0.0);
+      ++end;
+    }
+    const auto i = static_cast<std::size_t>(point);
+    double deepest = depth(i, predicted[i]);
+    std::optional<ContactPlane> chosen;
+    for (; k < end; ++k)
+    {
+      const Contact& c = detected[k];
+      if (c.kind != ContactKind::Obstacle ||
+        (someInFront && c.normal.dot(start[i] - c.surfacePoint) < 0.0))
+      {
+        continue;
+      }
+      const ContactPlane plane{ c.surfacePoint + c.thickness * c.normal, c.normal, c.surfaceVelocity };
+      const double d = (predicted[i] - plane.origin).dot(plane.normal);
+      if (d < deepest)
+      {
+        deepest = d;
+        chosen = plane;
+      }
+    }
+    if (chosen)
+    {
+      PlaneOf[i] = static_cast<std::int32_t>(Planes.size());
+      Planes.push_back(*chosen);
+    }
+  }
+}
+
+} // namespace softbody
