@@ -67,9 +67,18 @@ void reduceCandidates(std::vector<ContactCandidate>& found, std::vector<std::uin
       ++end;
     }
     const std::size_t groupStart = kept.size();
-    for (std::size_t k = begin; k < end; ++k)
+    bool behindKept = false; // the nearest face the point is behind: the one it leaves by
+    for (std::size_t k = begin; k < end && kept.size() - groupStart < kMostContactsPerSource; ++k)
     {
       const ContactCandidate& c = found[order[k]];
+      if (c.behind)
+      {
+        if (behindKept)
+        {
+          continue; // a farther face behind the point: the other side of the body
+        }
+        behindKept = true;
+      }
       bool covered = false;
       if (!c.onFace && c.contact.kind != ContactKind::PointPoint)
       {
