@@ -294,7 +294,9 @@ void CollisionDetector::testPointTriangle(std::int32_t point, std::size_t triang
   c.contact.surfacePoint = Vec3::Zero(); // moves with the body: see barycentric and other
   const Vec3& b = c.contact.barycentric;
   const Vec3 startClosest = b[0] * start[t[0]] + b[1] * start[t[1]] + b[2] * start[t[2]];
-  limitSeparationSpeed(c.contact.normal.dot(start[point] - startClosest) - thickness, SubstepLength, c.contact);
+  const double startGap = c.contact.normal.dot(start[point] - startClosest);
+  c.startedBehind = c.behind && startGap < 0.0;
+  limitSeparationSpeed(startGap - thickness, SubstepLength, c.contact);
   candidates.found.push_back(c);
 }
 

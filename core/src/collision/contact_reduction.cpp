@@ -67,11 +67,14 @@ void reduceCandidates(std::vector<ContactCandidate>& found, std::vector<std::uin
       ++end;
     }
     const std::size_t groupStart = kept.size();
-    bool behindKept = false; // the nearest face the point is behind: the one it leaves by
+    bool behindKept = false; // the nearest face the point started behind: the one it leaves by
     for (std::size_t k = begin; k < end && kept.size() - groupStart < kMostContactsPerSource; ++k)
     {
       const ContactCandidate& c = found[order[k]];
-      if (c.behind)
+      // Faces the point crossed in this substep are all kept: a fast point through a thin wall
+      // is behind the face it crossed and behind the wall's far face, nearer, which it started
+      // behind; the response keeps it on the side it started (mass-spring ignores the far face).
+      if (c.behind && c.startedBehind)
       {
         if (behindKept)
         {

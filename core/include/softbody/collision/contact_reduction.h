@@ -29,8 +29,9 @@ bool contactBefore(const Contact& x, const Contact& y);
 /// face it stands on is kept, and so are contacts on parts of the surface that share no vertex
 /// (a point between two fingers). Ties go by key, so the choice does not depend on the
 /// candidates' order.
-/// A point behind faces of the surface (inside a closed body, or across cloth) keeps only the
-/// nearest of them: it leaves through that face, and the faces farther behind it are the far
+/// A point behind faces of a body's surface that it was behind at the start of the substep too
+/// (inside a closed body, or across cloth) keeps only the nearest of them (faces it crossed in
+/// the substep are all kept): it leaves through that face, and the faces farther behind it are the far
 /// side of the body, whose contacts would push it the other way (two tori started one inside
 /// the other: points caught by faces on both sides of a tube, pushed to and fro, every
 /// substep faster, until each point held a thousand contacts). And each group keeps its
