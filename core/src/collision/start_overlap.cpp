@@ -99,7 +99,7 @@ public:
   double distance(const Vec3& p) const
   {
     double radius = std::max(CellSize, 1e-9), best = std::numeric_limits<double>::infinity();
-    while (!(best <= radius))
+    for (int grow = 0; grow < 64 && !(best <= radius); ++grow) // 2^64 cells: beyond any finite scene
     {
       Bvh.forEachNear(p, radius, [&](std::int32_t item) {
         const Triangle& t = Triangles[static_cast<std::size_t>(item)];
