@@ -67,9 +67,21 @@ void reduceCandidates(std::vector<ContactCandidate>& found, std::vector<std::uin
       ++end;
     }
     const std::size_t groupStart = kept.size();
-    for (std::size_t k = begin; k < end; ++k)
+    bool behindKept = false; // the nearest face the point started behind: the one it leaves by
+    for (std::size_t k = begin; k < end && kept.size() - groupStart < kMostContactsPerSource; ++k)
     {
       const ContactCandidate& c = found[order[k]];
+      // Faces the point crossed in this substep are all kept: a fast point through a thin wall
+      // is behind the face it crossed and behind the wall's far face, nearer, which it started
+      // behind; the response keeps it on the side it started (mass-spring ignores the far face).
+      if (c.behind && c.startedBehind)
+      {
+        if (behindKept)
+        {
+          continue; // a farther face behind the point: the other side of the body
+        }
+        behindKept = true;
+      }
       bool covered = false;
       if (!c.onFace && c.contact.kind != ContactKind::PointPoint)
       {

@@ -20,6 +20,7 @@ bool pointTriangleContact(const Vec3& p, const Vec3& a, const Vec3& b, const Vec
   const double areaNorm = area.norm();
   const bool onFace = closest.feature == TriangleFeature::Face;
   Vec3 normal;
+  out.behind = false;
   if (areaNorm > 0.0)
   {
     normal = side * area / areaNorm;
@@ -36,6 +37,7 @@ bool pointTriangleContact(const Vec3& p, const Vec3& a, const Vec3& b, const Vec
       {
         return false;
       }
+      out.behind = true;
     }
     else if (!onFace && distance > 1e-12 * std::sqrt(areaNorm))
     {

@@ -5,6 +5,7 @@
 #include "softbody/pbd/pbd_simulation.h"
 
 #include "softbody/collision/boundary_triangles.h"
+#include "softbody/collision/start_overlap.h"
 #include "softbody/common/errors.h"
 #include "softbody/common/parallel.h"
 #include "softbody/common/stepping.h"
@@ -79,6 +80,16 @@ void PbdSimulation::setUpCollisions(const std::vector<Tet>& tets,
     if (particle || onSurface[i] || (interiorCollides && inTet[i]))
     {
       geometry.collidingPoints.push_back(static_cast<std::int32_t>(i));
+    }
+  }
+  // Bodies started inside each other are pushed apart slowly (start_overlap.h): said here,
+  // with the depth, so that a slow or entangled start is not a mystery.
+  if (Settings.collisions.bodiesCollide() && BodyFirstPoint.size() > 1)
+  {
+    const std::string overlap = startOverlapWarning(findStartOverlaps(geometry, State.positions));
+    if (!overlap.empty())
+    {
+      Warnings.push_back(overlap);
     }
   }
   Detector = std::make_unique<CollisionDetector>(

@@ -48,6 +48,10 @@ struct DetectionStats
 {
   std::size_t candidatePairs = 0; ///< broad-phase pairs examined by the narrow phase
   std::size_t contacts = 0;
+  /// The most of one point: pairs examined by the narrow phase, and contacts kept (what the
+  /// cost per point is bounded by; see kMostContactsPerSource in contact_reduction.h).
+  std::size_t mostExaminedPerPoint = 0;
+  std::size_t mostContactsPerPoint = 0;
   BroadPhase broadPhase = BroadPhase::BruteForce; ///< the kind used (Automatic resolved)
 };
 
@@ -101,6 +105,7 @@ private:
   std::vector<std::int32_t> Colliding;    ///< collidingPoints, sorted, without repeats
   std::vector<std::int32_t> TriangleBody; ///< body of each surface triangle
   // Per substep (prepareSubstep):
+  double SubstepLength = 0.0;             ///< h [s]: how much penetration a start may shed (start_overlap.h)
   std::vector<double> Displacement;       ///< |predicted - start| per point [m]
   std::vector<double> TriangleReach;      ///< largest corner displacement per surface triangle [m]
   std::vector<std::vector<Vec3>> ObstacleNow; ///< obstacle vertices at the end of the substep
@@ -129,6 +134,7 @@ private:
   std::vector<Aabb> ItemBoxes;            ///< scratch for the BVH refits
   std::vector<ContactSet> BlockContacts;  ///< per block of points, kept between detections
   std::vector<std::size_t> BlockExamined;
+  std::vector<std::array<std::size_t, 2>> BlockMost; ///< per block: most examined, most contacts of a point
 
   CollisionSettings Settings;
   bool FloorEnabled = false;

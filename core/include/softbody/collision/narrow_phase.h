@@ -36,6 +36,12 @@ struct ContactCandidate
   Contact contact;
   double distance = 0.0; ///< |point - closest point| at the predicted positions [m]
   bool onFace = false;   ///< closest feature is the triangle's interior
+  /// Behind a triangle's free side (inside a closed surface, or across a cloth triangle): the
+  /// point is to leave through this face.
+  bool behind = false;
+  /// Body triangles (set by the detector): the point was behind this face's plane at the start
+  /// of the substep too, a penetration it did not make in this substep.
+  bool startedBehind = false;
   /// The touched triangle's vertices (obstacle or body numbering; -1 for the floor and
   /// particles): which contacts lie on neighbouring triangles of one surface.
   std::array<std::int32_t, 3> corners{ -1, -1, -1 };
