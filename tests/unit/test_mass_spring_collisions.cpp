@@ -361,3 +361,63 @@ TEST(MassSpringCollisions, OneAndTwoThreadsGiveBitIdenticalStates)
   EXPECT_TRUE(test::bitwiseEqual(one.positions, two.positions));
   EXPECT_TRUE(test::bitwiseEqual(one.velocities, two.velocities));
 }
+
+TEST(MassSpringCollisions, ImplicitIntegratorsHoldAnObstacleInTheirSolveAsTheyHoldTheFloor)
+{
+  // A box dropped onto a plane tilted 20 degrees, once as an obstacle (no floor) and once as the
+  // floor: the implicit solve keeps each point on its contact plane in both cases, so the two
+  // runs agree (to the rounding of the obstacle's closest points) and no point ever goes behind
+  // the plane. (Resolved after the step instead, as before, a TetGen torus landing on such a
+  // ramp at 1/20 s steps kept 554 of 3,949 tets inverted under Implicit Euler.)
+  const double angle = 20.0 * kPi / 180.0;
+  const double margin = 0.002;
+  for (Integrator integrator : { Integrator::ImplicitEuler, Integrator::ProjectiveDynamics })
+  {
+    auto run = [&](bool asObstacle, double& deepest) {
+      SceneSettings scene = obstacleScene(margin);
+      scene.integrator = integrator;
+      scene.timeStep = 1.0 / 20.0;
+      if (!asObstacle)
+      {
+        scene.floorEnabled = true;
+        scene.floor.origin = Vec3::Zero();
+        scene.floor.normal = tilt(Vec3::UnitZ(), angle);
+      }
+      BodyDescription body = box(3, 0.05, Vec3(-0.075, -0.075, 0.15));
+      MassSpringSimulation sim(body, scene);
+      ObstacleSurface plane = floorSquare(0.0, 5.0);
+      for (Vec3& v : plane.vertices)
+      {
+        v = tilt(v, angle);
+      }
+      if (asObstacle)
+      {
+        sim.setObstacles({ plane }, 0.0);
+      }
+      const Vec3 n = tilt(Vec3::UnitZ(), angle);
+      deepest = 1e300;
+      for (int frame = 1; frame <= 20; ++frame)
+      {
+        sim.advance(frame * 0.05);
+        for (const Vec3& p : sim.positions())
+        {
+          deepest = std::min(deepest, p.dot(n));
+        }
+      }
+      return sim.positions();
+    };
+    double deepestObstacle = 0.0, deepestFloor = 0.0;
+    const std::vector<Vec3> onObstacle = run(true, deepestObstacle);
+    const std::vector<Vec3> onFloor = run(false, deepestFloor);
+    double gap = 0.0;
+    for (std::size_t i = 0; i < onFloor.size(); ++i)
+    {
+      gap = std::max(gap, (onObstacle[i] - onFloor[i]).norm());
+    }
+    std::printf("  %s: obstacle vs floor %.2e m apart after 1 s; closest to the plane %.6f m (obstacle), "
+                "%.6f m (floor); margin %.3f m\n",
+      integratorName(integrator), gap, deepestObstacle, deepestFloor, margin);
+    EXPECT_LT(gap, 1e-3) << integratorName(integrator);
+    EXPECT_GT(deepestObstacle, margin - 1e-9) << integratorName(integrator);
+  }
+}

@@ -1,4 +1,7 @@
 #include "softbody/massspring/mass_spring_setup.h"
+
+#include "softbody/collision/start_overlap.h"
+#include "softbody/massspring/tet_body_contacts.h"
 #include "softbody/common/stepping.h"
 
 #include "softbody/common/errors.h"
@@ -177,6 +180,16 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
         " points start below the floor: each body without pinned points is lifted onto it at "
         "t = 0 without velocity; pinned ones are pushed onto it in the first step. Move "
         "FloorOrigin below the body to drop it instead.");
+    }
+  }
+  if (s.scene.collisions.bodiesCollide())
+  {
+    // Bodies placed inside each other are pushed apart at a bounded speed; say so and by how much.
+    const std::string overlap =
+      startOverlapWarning(findStartOverlaps(tetBodyGeometry(s.mesh, s.scene.collisions), s.mesh.points));
+    if (!overlap.empty())
+    {
+      s.warnings.push_back(overlap);
     }
   }
   chooseStep(s);
