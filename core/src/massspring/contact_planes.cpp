@@ -1,5 +1,7 @@
 #include "softbody/massspring/contact_planes.h"
 
+#include "softbody/common/parallel.h"
+
 #include <limits>
 
 namespace softbody
@@ -72,6 +74,24 @@ void ContactPlanes::addObstacleContacts(
       Planes.push_back(*chosen);
     }
   }
+}
+
+std::vector<double> pointElementSizes(const Topology& topology, const std::vector<Vec3>& rest)
+{
+  std::vector<double> sizes(topology.vertexCount, 0.0);
+  parallelFor(topology.vertexCount, 4096, [&](std::size_t i) {
+    const std::int32_t begin = topology.vertexEdges.offsets[i];
+    const std::int32_t end = topology.vertexEdges.offsets[i + 1];
+    double sum = 0.0;
+    for (std::int32_t k = begin; k < end; ++k)
+    {
+      const Edge& e =
+        topology.edges[static_cast<std::size_t>(topology.vertexEdges.items[static_cast<std::size_t>(k)])];
+      sum += (rest[static_cast<std::size_t>(e.b)] - rest[static_cast<std::size_t>(e.a)]).norm();
+    }
+    sizes[i] = end > begin ? sum / (end - begin) : 0.0;
+  });
+  return sizes;
 }
 
 } // namespace softbody

@@ -98,6 +98,7 @@ MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSett
     Implicit = makeImplicitIntegrator(solveScene, Topo,
       BodyElements{ Model, &Constants, isContinuum(Model) ? &TetConstants : nullptr }, Masses,
       Mesh.points, State.positions, &Conditions);
+    Implicit->contactPlanes().setElementSizes(pointElementSizes(Topo, Mesh.points));
   }
 }
 

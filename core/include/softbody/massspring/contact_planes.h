@@ -17,10 +17,12 @@
 #include "softbody/collision/contact.h"
 #include "softbody/common/floor_plane.h"
 #include "softbody/common/geometry.h"
+#include "softbody/mesh/topology.h"
 
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace softbody
@@ -52,6 +54,11 @@ public:
   void addObstacleContacts(const ContactSet& detected, const std::vector<Vec3>& start,
     const std::vector<Vec3>& predicted);
 
+  /// Per point, the size of its elements [m] (pointElementSizes): how far friction may move
+  /// it after the solve (implicit_solve.cpp); none given: 0 for all, no bound.
+  void setElementSizes(std::vector<double> sizes) { ElementSizes = std::move(sizes); }
+  double elementSize(std::size_t i) const { return ElementSizes.empty() ? 0.0 : ElementSizes[i]; }
+
   bool empty() const { return Planes.empty(); }
   std::size_t pointCount() const { return PlaneOf.size(); }
   std::size_t obstaclePlaneCount() const { return Planes.size() - (Floor ? 1 : 0); }
@@ -65,6 +72,10 @@ private:
   std::optional<FloorPlane> Floor;
   std::vector<ContactPlane> Planes; ///< the floor first (when there is one), then obstacle faces
   std::vector<std::int32_t> PlaneOf; ///< per point, its plane in Planes; -1 for none
+  std::vector<double> ElementSizes;
 };
+
+/// Per point, the mean rest length of its edges [m] (0 for a point without edges).
+std::vector<double> pointElementSizes(const Topology& topology, const std::vector<Vec3>& rest);
 
 } // namespace softbody

@@ -95,7 +95,8 @@ private:
   /// After the solve: point i's velocity from its motion over the step (its surface's for a
   /// stuck point), with the contact response (inelastic, Coulomb friction) for a point held on
   /// its plane.
-  Vec3 endVelocity(std::size_t i, double h, const std::vector<Vec3>& start);
+  /// `holdAndSolveAgain`: it sticks, and moving it where it began would strain its elements.
+  Vec3 endVelocity(std::size_t i, double h, const std::vector<Vec3>& start, bool& holdAndSolveAgain);
 
   IncrementalPotential& Potential;
   ImplicitSettings Settings;
@@ -110,6 +111,7 @@ private:
   std::vector<PointMotion> TrialMotion;
   bool Restart = true;
   double Reference = 1.0, Goal = 0.0, Energy = 0.0, Residual = 0.0, StartResidual = 1.0;
+  std::vector<Vec3> EndVelocity; ///< per point, after the contact response
   std::vector<Vec3> X, Trial, Gradient, TrialGradient, Filtered, Direction, Scratch;
 };
 
