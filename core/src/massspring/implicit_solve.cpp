@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <optional>
 
 namespace softbody
@@ -411,9 +412,14 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
   };
   if (respond() > 0)
   {
+    // The step's report covers both solves: their iterations, and one residual history with a
+    // row per iteration (the second solve's starting residual is left out).
     const int firstIterations = c.iterations;
+    std::vector<double> history = std::move(c.residualHistory);
     solve(h, state, plan, rule, c);
     c.iterations += firstIterations;
+    history.insert(history.end(), c.residualHistory.begin() + 1, c.residualHistory.end());
+    c.residualHistory = std::move(history);
     respond();
   }
 
