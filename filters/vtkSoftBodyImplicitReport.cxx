@@ -32,6 +32,25 @@ void vtkSoftBodyImplicitReport::AddFields(
 }
 
 //------------------------------------------------------------------------------
+std::string vtkSoftBodyImplicitReport::ContactWarning(
+  const softbody::ImplicitConvergence& c, const char* integrator)
+{
+  if (c.fastContactSteps == 0)
+  {
+    return {};
+  }
+  std::ostringstream message;
+  message << c.fastContactSteps << " " << integrator
+          << " steps reached a contact faster than its elements: in one step of "
+          << c.fastestApproachStep << " s a point moved " << c.fastestApproach
+          << " m into the floor or an obstacle, against elements of " << c.fastestApproachSize
+          << " m. The step stops it there while the points above it move on, which crushes or "
+             "inverts the elements at the contact: take a TimeStep of at most "
+          << c.fastestApproachStep * c.fastestApproachSize / c.fastestApproach << " s.";
+  return message.str();
+}
+
+//------------------------------------------------------------------------------
 void vtkSoftBodyImplicitReport::FillTable(
   const softbody::ImplicitConvergence& c, vtkTable* output)
 {

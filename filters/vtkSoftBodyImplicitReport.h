@@ -25,6 +25,10 @@ struct vtkSoftBodyImplicitReport
   /// Empty when every step converged; else how many did not, the residual, and what to do.
   static std::string Warning(const softbody::ImplicitConvergence& convergence,
     const char* integrator, int maxIterations);
+  /// Empty unless some step moved a point into its contact plane by more than its elements'
+  /// size; else how many, the worst approach, and the TimeStep that avoids it.
+  static std::string ContactWarning(const softbody::ImplicitConvergence& convergence,
+    const char* integrator);
 };
 
 #endif

@@ -230,6 +230,12 @@ std::string vtkSoftBodyOutputAssembly::FillMesh(vtkUnstructuredGrid* input,
     {
       warnings.push_back(unconverged);
     }
+    const std::string fastContact = vtkSoftBodyImplicitReport::ContactWarning(
+      *implicit, softbody::integratorName(vtkSoftBodySettings::Integrator(p.Integrator)));
+    if (!fastContact.empty())
+    {
+      warnings.push_back(fastContact);
+    }
   }
   for (const std::string& warning : vtkSoftBodySettings::Warnings(p))
   {

@@ -2,7 +2,9 @@
 
 #include "softbody/common/parallel.h"
 
+#include <algorithm>
 #include <limits>
+#include <tuple>
 
 namespace softbody
 {
@@ -74,6 +76,34 @@ void ContactPlanes::addObstacleContacts(
       Planes.push_back(*chosen);
     }
   }
+}
+
+ContactApproach fastestApproach(const ContactPlanes& planes, const std::vector<Vec3>& x0,
+  const std::vector<Vec3>& v0, const std::vector<double>& inverseMass, double h)
+{
+  // The largest approach over size; ties keep the larger approach, then the larger size, so the
+  // answer does not depend on the thread count.
+  const auto worse = [](const ContactApproach& a, const ContactApproach& b) {
+    const double ra = a.ratio(), rb = b.ratio();
+    if (ra != rb)
+    {
+      return ra > rb ? a : b;
+    }
+    return std::tie(a.approach, a.size) >= std::tie(b.approach, b.size) ? a : b;
+  };
+  return parallelReduce(
+    x0.size(), 4096, ContactApproach{},
+    [&](std::size_t i) {
+      if (inverseMass[i] == 0.0 || planes.pointCount() <= i || !planes.has(i))
+      {
+        return ContactApproach{};
+      }
+      // Only the motion's part: a point that starts behind its plane is put on it by the solve.
+      const double approach = std::max(0.0,
+        std::max(0.0, -planes.depth(i, x0[i] + h * v0[i])) - std::max(0.0, -planes.depth(i, x0[i])));
+      return ContactApproach{ approach, planes.elementSize(i) };
+    },
+    worse);
 }
 
 std::vector<double> pointElementSizes(const Topology& topology, const std::vector<Vec3>& rest)

@@ -218,7 +218,35 @@ void MassSpringSimulation::stepOnce(double h)
   {
     findObstaclePlanes(h);
   }
+  if (Implicit && !Implicit->contactPlanes().empty())
+  {
+    noteFastApproach(h);
+  }
   takeStep(h);
+}
+
+void MassSpringSimulation::noteFastApproach(double h)
+{
+  // A point that moves into its plane by more than its elements in one step stops there while
+  // the points above it do not: the step crushes the elements between (a torus landing at
+  // 1/20 s, 1.8 m/s, on 3 cm elements). Counted for the report, which gives the TimeStep that
+  // avoids it.
+  const ContactApproach fastest = fastestApproach(
+    Implicit->contactPlanes(), State.positions, State.velocities, Masses.inverseMass, h);
+  if (fastest.ratio() <= 1.0)
+  {
+    return;
+  }
+  ImplicitConvergence& report = Implicit->convergence();
+  ++report.fastContactSteps;
+  if (report.fastestApproachSize > 0.0 &&
+    fastest.ratio() <= report.fastestApproach / report.fastestApproachSize)
+  {
+    return; // not the worst so far
+  }
+  report.fastestApproach = fastest.approach;
+  report.fastestApproachStep = h;
+  report.fastestApproachSize = fastest.size;
 }
 
 void MassSpringSimulation::takeStep(double h)

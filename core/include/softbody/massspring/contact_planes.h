@@ -75,6 +75,17 @@ private:
   std::vector<double> ElementSizes;
 };
 
+/// The point that moves furthest into its plane in a step of h from (x0, v0), relative to its
+/// elements' size: how far x0 + h v0 lies deeper behind its plane than x0 does [m].
+struct ContactApproach
+{
+  double approach = 0.0; ///< [m]
+  double size = 0.0;     ///< that point's element size [m]
+  double ratio() const { return size > 0.0 ? approach / size : 0.0; }
+};
+ContactApproach fastestApproach(const ContactPlanes& planes, const std::vector<Vec3>& x0,
+  const std::vector<Vec3>& v0, const std::vector<double>& inverseMass, double h);
+
 /// Per point, the mean rest length of its edges [m] (0 for a point without edges).
 std::vector<double> pointElementSizes(const Topology& topology, const std::vector<Vec3>& rest);
 

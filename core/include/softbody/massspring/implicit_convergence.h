@@ -21,6 +21,12 @@ struct ImplicitConvergence
   unsigned long long iterationsTotal = 0;
   unsigned long long linearIterationsTotal = 0; ///< CG iterations (Implicit Euler)
   unsigned long long lineSearchHalvings = 0;    ///< step shortenings (Implicit Euler)
+  /// Steps in which a point moved into its contact plane by more than its elements' size (they
+  /// crush or invert the elements there), and the worst of them.
+  unsigned long long fastContactSteps = 0;
+  double fastestApproach = 0.0;     ///< [m]
+  double fastestApproachStep = 0.0; ///< its step [s]
+  double fastestApproachSize = 0.0; ///< the element size there [m]
 };
 
 } // namespace softbody

@@ -14,6 +14,7 @@
 #include "softbody/material/mass.h"
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace softbody
@@ -27,6 +28,10 @@ public:
   /// element passes as Stage::Forces and its solves as Stage::LinearSolve.
   virtual void step(double h, DynamicState& state, StepPlan& plan) = 0;
   virtual const ImplicitConvergence& convergence() const = 0;
+  ImplicitConvergence& convergence()
+  {
+    return const_cast<ImplicitConvergence&>(std::as_const(*this).convergence());
+  }
   /// The incremental potential the steps minimize (its loads and held points are set on it).
   virtual IncrementalPotential& potential() = 0;
   /// The contact planes the steps keep points on (the floor's; the owner adds the obstacles'

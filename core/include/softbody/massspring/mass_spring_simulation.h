@@ -110,6 +110,9 @@ private:
   void takeStep(double h);
   /// Implicit integrators: the obstacle planes of the coming step of h (contact_planes.h).
   void findObstaclePlanes(double h);
+  /// Implicit integrators: counts a step of h that moves a point into its contact plane by more
+  /// than its elements' size (ImplicitConvergence::fastContactSteps).
+  void noteFastApproach(double h);
   /// Implicit integrators: drops the obstacle contacts their solve already held.
   void dropObstacleContactsHeldInTheSolve();
 
