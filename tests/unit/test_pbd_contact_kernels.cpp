@@ -51,7 +51,7 @@ TEST(PbdContactKernels, PointTriangleContactKeepsMomentumAndRestoresTheThickness
   const std::array<Vec3, 4> x{ Vec3(0.32, 0.45, -0.02), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0) };
   const std::array<double, 4> w{ 1.0, 2.0, 0.5, 3.0 };
   ContactMultipliers lambda;
-  const Projection<4> p = projectPointTriangleContact(x, x, w, contact, {}, lambda);
+  const Projection<4> p = projectSurfaceContact(x, x, w, contact, {}, lambda);
   std::array<Vec3, 4> y;
   Vec3 momentum = Vec3::Zero();
   for (int k = 0; k < 4; ++k)
@@ -70,7 +70,7 @@ TEST(PbdContactKernels, PointTriangleContactKeepsMomentumAndRestoresTheThickness
 
   // A pinned triangle leaves all the work to the point.
   ContactMultipliers again;
-  const Projection<4> q = projectPointTriangleContact(x, x, { 1.0, 0.0, 0.0, 0.0 }, contact, {}, again);
+  const Projection<4> q = projectSurfaceContact(x, x, { 1.0, 0.0, 0.0, 0.0 }, contact, {}, again);
   EXPECT_NEAR((x[0] + q.dx[0]).z(), 0.005, 1e-15);
   EXPECT_EQ(q.dx[1], Vec3::Zero());
 }

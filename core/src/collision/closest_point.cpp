@@ -16,6 +16,43 @@ double closestPointOnSegment(const Vec3& p, const Vec3& a, const Vec3& b)
   return std::clamp((p - a).dot(ab) / length2, 0.0, 1.0);
 }
 
+SegmentPair closestPointsOfSegments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1)
+{
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  SegmentPair pair;
+  if (!(a > 0.0) && !(e > 0.0))
+  {
+    return pair; // two points
+  }
+  if (!(a > 0.0))
+  {
+    pair.t = std::clamp(f / e, 0.0, 1.0);
+    return pair;
+  }
+  const double c = d1.dot(r);
+  if (!(e > 0.0))
+  {
+    pair.s = std::clamp(-c / a, 0.0, 1.0);
+    return pair;
+  }
+  const double b = d1.dot(d2);
+  const double denominator = a * e - b * b; // >= 0; 0 for parallel segments
+  pair.s = denominator > 0.0 ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
+  pair.t = (b * pair.s + f) / e;
+  if (pair.t < 0.0)
+  {
+    pair.t = 0.0;
+    pair.s = std::clamp(-c / a, 0.0, 1.0);
+  }
+  else if (pair.t > 1.0)
+  {
+    pair.t = 1.0;
+    pair.s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  return pair;
+}
+
 namespace
 {
 

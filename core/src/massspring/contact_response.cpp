@@ -1,5 +1,6 @@
 #include "softbody/massspring/contact_response.h"
 
+#include "softbody/collision/contact_terms.h"
 #include "softbody/collision/coulomb_friction.h"
 #include "softbody/common/parallel.h"
 
@@ -11,41 +12,6 @@ namespace softbody
 {
 namespace
 {
-
-/// The points of a contact and their coefficients c_j in C = n . (sum_j c_j x_j - s) - thickness.
-struct ContactTerms
-{
-  int count = 0;
-  std::array<std::int32_t, 4> index{};
-  std::array<double, 4> coefficient{};
-};
-
-ContactTerms termsOf(const Contact& contact)
-{
-  ContactTerms terms;
-  terms.index[0] = contact.point;
-  terms.coefficient[0] = 1.0;
-  switch (contact.kind)
-  {
-    case ContactKind::Obstacle:
-      terms.count = 1;
-      break;
-    case ContactKind::PointPoint:
-      terms.count = 2;
-      terms.index[1] = contact.other[0];
-      terms.coefficient[1] = -1.0;
-      break;
-    case ContactKind::PointTriangle:
-      terms.count = 4;
-      for (int k = 0; k < 3; ++k)
-      {
-        terms.index[k + 1] = contact.other[k];
-        terms.coefficient[k + 1] = -contact.barycentric[k];
-      }
-      break;
-  }
-  return terms;
-}
 
 /// Projection and velocity response of one contact (contact_response.h); true if it was
 /// penetrating.

@@ -5,6 +5,7 @@
 #include "softbody/pbd/pbd_simulation.h"
 
 #include "softbody/collision/boundary_triangles.h"
+#include "softbody/collision/contact_terms.h"
 #include "softbody/collision/start_overlap.h"
 #include "softbody/common/errors.h"
 #include "softbody/common/parallel.h"
@@ -193,15 +194,21 @@ void PbdSimulation::projectContacts()
     }
     else
     {
-      const std::size_t a = static_cast<std::size_t>(c.other[0]);
-      const std::size_t b = static_cast<std::size_t>(c.other[1]);
-      const std::size_t e = static_cast<std::size_t>(c.other[2]);
-      const Projection<4> d = projectPointTriangleContact({ Predicted[p], Predicted[a], Predicted[b], Predicted[e] },
-        { start[p], start[a], start[b], start[e] }, { w[p], w[a], w[b], w[e] }, c, mu, ContactLambda[k]);
-      Predicted[p] += d.dx[0];
-      Predicted[a] += d.dx[1];
-      Predicted[b] += d.dx[2];
-      Predicted[e] += d.dx[3];
+      const ContactTerms terms = termsOf(c); // point-triangle or edge-edge: four points
+      std::array<Vec3, 4> x, x0;
+      std::array<double, 4> wk{};
+      for (int j = 0; j < 4; ++j)
+      {
+        const auto i = static_cast<std::size_t>(terms.index[j]);
+        x[j] = Predicted[i];
+        x0[j] = start[i];
+        wk[j] = w[i];
+      }
+      const Projection<4> d = projectSurfaceContact(x, x0, wk, c, mu, ContactLambda[k]);
+      for (int j = 0; j < 4; ++j)
+      {
+        Predicted[static_cast<std::size_t>(terms.index[j])] += d.dx[j];
+      }
     }
   }
 }
@@ -214,30 +221,17 @@ double PbdSimulation::contactResidual() const
   double sum = 0.0;
   for (const Contact& c : Contacts)
   {
-    const std::size_t p = static_cast<std::size_t>(c.point);
-    double C = 0.0, W = InverseMass[p];
-    switch (c.kind)
+    const ContactTerms terms = termsOf(c);
+    Vec3 r = c.kind == ContactKind::Obstacle ? Vec3(-c.surfacePoint) : Vec3::Zero();
+    double W = 0.0;
+    for (int j = 0; j < terms.count; ++j)
     {
-      case ContactKind::Obstacle:
-        C = c.normal.dot(x[p] - c.surfacePoint) - c.thickness;
-        break;
-      case ContactKind::PointPoint:
-        C = (x[p] - x[static_cast<std::size_t>(c.other[0])]).norm() - c.thickness;
-        W += InverseMass[static_cast<std::size_t>(c.other[0])];
-        break;
-      case ContactKind::PointTriangle:
-      {
-        Vec3 r = x[p];
-        for (int k = 0; k < 3; ++k)
-        {
-          const std::size_t v = static_cast<std::size_t>(c.other[static_cast<std::size_t>(k)]);
-          r -= c.barycentric[k] * x[v];
-          W += InverseMass[v];
-        }
-        C = c.normal.dot(r) - c.thickness;
-        break;
-      }
+      const auto i = static_cast<std::size_t>(terms.index[j]);
+      r += terms.coefficient[j] * x[i];
+      W += terms.coefficient[j] * terms.coefficient[j] * InverseMass[i];
     }
+    // Particles: the distance of the centres, exact rather than linearized.
+    const double C = (c.kind == ContactKind::PointPoint ? r.norm() : c.normal.dot(r)) - c.thickness;
     if (C < 0.0 && W > 0.0)
     {
       sum += C * C;

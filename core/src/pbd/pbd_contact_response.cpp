@@ -3,6 +3,7 @@
 // pbd_contact_kernels.h.)
 #include "softbody/pbd/pbd_simulation.h"
 
+#include "softbody/collision/contact_terms.h"
 #include "softbody/common/parallel.h"
 #include "softbody/common/stepping.h"
 
@@ -11,39 +12,6 @@
 
 namespace softbody
 {
-namespace
-{
-/// Participants of a body contact: indices and coefficients c_k of r = sum_k c_k x_k.
-struct Participants
-{
-  std::array<std::size_t, 4> index{};
-  std::array<double, 4> c{};
-  int count = 0;
-};
-
-Participants participantsOf(const Contact& contact)
-{
-  Participants p;
-  p.index[0] = static_cast<std::size_t>(contact.point);
-  p.c[0] = 1.0;
-  if (contact.kind == ContactKind::PointPoint)
-  {
-    p.index[1] = static_cast<std::size_t>(contact.other[0]);
-    p.c[1] = -1.0;
-    p.count = 2;
-  }
-  else
-  {
-    for (int k = 0; k < 3; ++k)
-    {
-      p.index[k + 1] = static_cast<std::size_t>(contact.other[static_cast<std::size_t>(k)]);
-      p.c[k + 1] = -contact.barycentric[k];
-    }
-    p.count = 4;
-  }
-  return p;
-}
-} // namespace
 
 void PbdSimulation::applyContactResponse(double h)
 {
@@ -85,7 +53,7 @@ void PbdSimulation::applyContactResponse(double h)
     {
       continue;
     }
-    const Participants p = participantsOf(c);
+    const ContactTerms p = termsOf(c);
     Vec3 n = c.normal;
     if (c.kind == ContactKind::PointPoint)
     {
@@ -95,17 +63,18 @@ void PbdSimulation::applyContactResponse(double h)
     double approach = 0.0, now = 0.0, W = 0.0;
     for (int j = 0; j < p.count; ++j)
     {
-      const std::size_t i = p.index[j];
-      approach += p.c[j] * n.dot(VelocityBefore[i]);
-      now += p.c[j] * n.dot(v[i]);
-      W += p.c[j] * p.c[j] * InverseMass[i];
+      const auto i = static_cast<std::size_t>(p.index[j]);
+      approach += p.coefficient[j] * n.dot(VelocityBefore[i]);
+      now += p.coefficient[j] * n.dot(v[i]);
+      W += p.coefficient[j] * p.coefficient[j] * InverseMass[i];
     }
     const double change = restitutionSpeedChange(approach, now, e, restingSpeed);
     if (change > 0.0 && W > 0.0)
     {
       for (int j = 0; j < p.count; ++j)
       {
-        v[p.index[j]] += (p.c[j] * InverseMass[p.index[j]] / W * change) * n;
+        const auto i = static_cast<std::size_t>(p.index[j]);
+        v[i] += (p.coefficient[j] * InverseMass[i] / W * change) * n;
       }
     }
   }

@@ -1,5 +1,6 @@
-// The closest point of a triangle to a point, with the feature it lies on (face, edge, vertex):
-// the exact narrow phase of every point-triangle contact.
+// The closest point of a triangle to a point, with the feature it lies on (face, edge, vertex),
+// and the closest points of two segments: the exact narrow phases of point-triangle and
+// edge-edge contacts.
 #pragma once
 
 #include "softbody/common/geometry.h"
@@ -37,5 +38,19 @@ TrianglePoint closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b
 
 /// Closest point of the segment [a, b] to p, as the weight t of b (point = a + t (b - a)).
 double closestPointOnSegment(const Vec3& p, const Vec3& a, const Vec3& b);
+
+/// The closest points of segments [p0, p1] and [q0, q1], as the weights s of p1 and t of q1
+/// (p0 + s (p1 - p0), q0 + t (q1 - q0); both in [0, 1]).
+struct SegmentPair
+{
+  double s = 0.0;
+  double t = 0.0;
+};
+
+/// Ericson, Real-Time Collision Detection (2005), 5.1.9: the unconstrained minimum of the
+/// lines, clamped to the first segment, the second's weight recomputed and clamped, the first
+/// recomputed once more. Parallel segments (where the lines' minimum is not unique) take s = 0
+/// and the nearest t; a zero-length segment is its point.
+SegmentPair closestPointsOfSegments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1);
 
 } // namespace softbody

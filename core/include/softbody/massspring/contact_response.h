@@ -24,7 +24,8 @@ struct ContactResponseStats
 /// Each contact is C(x) = n . (sum_j c_j x_j - s) - thickness >= 0 with n its normal and
 /// - Obstacle:      c = {1} (the point), s = surfacePoint (the obstacle at the step's end);
 /// - PointPoint:    c = {1, -1} (the point, the other particle), s = 0, n from the positions;
-/// - PointTriangle: c = {1, -b0, -b1, -b2} (the point, the triangle's corners), s = 0.
+/// - PointTriangle: c = {1, -b0, -b1, -b2} (the point, the triangle's corners), s = 0;
+/// - EdgeEdge:      c = {1 - s, s, -(1 - t), -t} (the two edges' ends), s = 0 (contact_terms.h).
 /// With W = sum_j c_j^2 w_j (w: inverse masses; 0 for pinned points, which never move):
 /// 1. Projection: where C < 0, x_j += c_j w_j (-C / W) n: the closest configuration on the
 ///    constraint, split by inverse mass and barycentric weight (PBD's distance projection);

@@ -6,6 +6,7 @@
 //   Obstacle       N = 1: r = x_p                     (c = 1; the surface is not simulated)
 //   PointPoint     N = 2: r = x_p - x_o               (c = 1, -1)
 //   PointTriangle  N = 4: r = x_p - sum_k b_k x_k     (c = 1, -b_0, -b_1, -b_2)
+//   EdgeEdge       N = 4: r = (1-s) x_a0 + s x_a1 - (1-t) x_b0 - t x_b1
 // A generalized correction D moves participant k by c_k w_k D, which changes r by W D with
 // W = sum_k c_k^2 w_k (so the point and the triangle share the correction by their inverse
 // masses and the triangle's corners by their barycentric weights, as in Bridson et al. 2002).
@@ -27,6 +28,7 @@
 #pragma once
 
 #include "softbody/collision/contact.h"
+#include "softbody/collision/contact_terms.h"
 #include "softbody/common/geometry.h"
 #include "softbody/pbd/pbd_kernels.h" // Projection
 
@@ -147,15 +149,21 @@ inline Projection<2> projectPointPointContact(const std::array<Vec3, 2>& x,
   return detail::applyContactCorrection(distance - contact.thickness, n, Vec3::Zero(), p, mu, lambda);
 }
 
-/// Point against a body triangle: C = n . (x_p - sum_k b_k x_k) - thickness with the normal
-/// and barycentric weights fixed at detection (x[0] is the point, x[1..3] the corners).
-inline Projection<4> projectPointTriangleContact(const std::array<Vec3, 4>& x,
+/// Point against a body triangle, C = n . (x_p - sum_k b_k x_k) - thickness, or edge against
+/// edge, C = n . ((1 - s) x_a0 + s x_a1 - (1 - t) x_b0 - t x_b1) - thickness, with the normal
+/// and the weights fixed at detection (x in the order of contact_terms.h: the point and the
+/// triangle's corners, or the first edge's ends and the second's).
+inline Projection<4> projectSurfaceContact(const std::array<Vec3, 4>& x,
   const std::array<Vec3, 4>& start, const std::array<double, 4>& w, const Contact& contact,
   const FrictionCoefficients& mu, ContactMultipliers& lambda)
 {
-  const Vec3& b = contact.barycentric;
-  const ContactParticipants<4> p{ x, start, w, { 1.0, -b[0], -b[1], -b[2] } };
-  const Vec3 r = x[0] - b[0] * x[1] - b[1] * x[2] - b[2] * x[3];
+  const ContactTerms terms = termsOf(contact);
+  const ContactParticipants<4> p{ x, start, w, terms.coefficient };
+  Vec3 r = Vec3::Zero();
+  for (int k = 0; k < 4; ++k)
+  {
+    r += terms.coefficient[k] * x[k];
+  }
   const double C = contact.normal.dot(r) - contact.thickness;
   return detail::applyContactCorrection(C, contact.normal, Vec3::Zero(), p, mu, lambda);
 }
