@@ -4,6 +4,7 @@
 // bodies against bodies, self-contact and its rest filter).
 #include "collision_test_scenes.h"
 #include "softbody/collision/closest_point.h"
+#include "softbody/collision/contact_terms.h"
 #include "softbody/common/errors.h"
 #include "softbody/mesh/mesh_generators.h"
 #include "test_support.h"
@@ -466,16 +467,30 @@ TEST(CollisionDetection, StackedTetBodiesTouchThroughSurfaceVerticesAndTriangles
   CollisionDetector detector(g, settingsWith(CollisionMode::ObstaclesAndBodies, margin), false, {});
   const ContactSet contacts = detectOnce(detector, x, x);
   ASSERT_FALSE(contacts.empty());
-  std::size_t down = 0, up = 0;
+  std::size_t down = 0, up = 0, edges = 0;
   for (const Contact& c : contacts)
   {
-    EXPECT_EQ(c.kind, ContactKind::PointTriangle);
     EXPECT_NE(c.source, g.bodyOf[c.point]) << "bodies only, no self contact";
-    EXPECT_EQ(c.source, g.bodyOf[c.other[0]]);
-    EXPECT_NEAR(c.barycentric.sum(), 1.0, 1e-12);
-    const Vec3 closest = c.barycentric[0] * x[c.other[0]] + c.barycentric[1] * x[c.other[1]] + c.barycentric[2] * x[c.other[2]];
+    EXPECT_EQ(c.source, g.bodyOf[c.other[c.kind == ContactKind::EdgeEdge ? 1 : 0]]);
     // The contact's constraint value is the real gap minus the thickness: 0.005 - margin.
-    const double gap = c.normal.dot(x[c.point] - closest);
+    const ContactTerms terms = termsOf(c);
+    Vec3 r = Vec3::Zero();
+    for (int j = 0; j < terms.count; ++j)
+    {
+      r += terms.coefficient[j] * x[terms.index[j]];
+    }
+    const double gap = c.normal.dot(r);
+    if (c.kind == ContactKind::EdgeEdge)
+    {
+      // The edges of the top box's bottom face crossing those of the bottom box's top face,
+      // a face apart: their common perpendicular is vertical.
+      ++edges;
+      EXPECT_NEAR(std::abs(c.normal.z()), 1.0, 1e-12);
+      EXPECT_NEAR(gap, 0.005, 1e-12);
+      continue;
+    }
+    EXPECT_EQ(c.kind, ContactKind::PointTriangle);
+    EXPECT_NEAR(c.barycentric.sum(), 1.0, 1e-12);
     if (c.normal.z() > 0.99)
     {
       ++up;
@@ -487,6 +502,7 @@ TEST(CollisionDetection, StackedTetBodiesTouchThroughSurfaceVerticesAndTriangles
       EXPECT_NEAR(gap, 0.005, 1e-12);
     }
   }
+  EXPECT_GT(edges, 0u);
   // Top-box bottom vertices over the bottom box's top face, and the reverse.
   EXPECT_GT(up, 0u);
   EXPECT_GT(down, 0u);
@@ -526,9 +542,18 @@ TEST(CollisionDetection, FoldedBarTouchesItselfButNotAtRest)
   ASSERT_FALSE(contacts.empty());
   for (const Contact& c : contacts)
   {
-    EXPECT_EQ(c.kind, ContactKind::PointTriangle);
+    EXPECT_TRUE(c.kind == ContactKind::PointTriangle || c.kind == ContactKind::EdgeEdge);
     EXPECT_EQ(c.source, 0);
-    EXPECT_TRUE((c.point != c.other[0]) && (c.point != c.other[1]) && (c.point != c.other[2]));
+    // Nothing against its own triangle, or an edge against one it shares a corner with.
+    const ContactTerms terms = termsOf(c);
+    const int sideOne = c.kind == ContactKind::EdgeEdge ? 2 : 1;
+    for (int j = 0; j < sideOne; ++j)
+    {
+      for (int k = sideOne; k < terms.count; ++k)
+      {
+        EXPECT_NE(terms.index[j], terms.index[k]);
+      }
+    }
   }
   CollisionDetector bodies(g, settingsWith(CollisionMode::ObstaclesAndBodies, 0.0), false, {});
   EXPECT_TRUE(detectOnce(bodies, folded, folded).empty());

@@ -5,6 +5,7 @@
 // at any thread count and for every broad phase.
 #include "softbody/collision/collision_detector.h"
 
+#include "detector_candidates.h"
 #include "softbody/collision/collision_input.h"
 #include "softbody/collision/contact_reduction.h"
 #include "softbody/collision/narrow_phase.h"
@@ -20,14 +21,6 @@
 
 namespace softbody
 {
-
-struct CollisionDetector::Candidates
-{
-  std::vector<ContactCandidate> found;
-  std::vector<std::uint32_t> order; ///< scratch of reduceCandidates
-  std::vector<std::uint32_t> kept;
-  std::size_t examined = 0; ///< pairs the narrow phase looked at
-};
 
 namespace
 {
@@ -108,6 +101,7 @@ CollisionDetector::CollisionDetector(CollisionGeometry geometry, const Collision
   {
     TriangleBody.push_back(Geometry.bodyOf[t[0]]);
   }
+  buildSurfaceEdges();
   Margin = Settings.margin > 0.0 ? Settings.margin : automaticMargin(Geometry);
   HasParticles = std::any_of(Colliding.begin(), Colliding.end(), [&](std::int32_t p) { return Geometry.radius[p] > 0.0; });
   Stats.broadPhase = BroadPhase::BruteForce;
@@ -619,6 +613,10 @@ void CollisionDetector::detect(const std::vector<Vec3>& start, const std::vector
       }
       examined[b] = candidates.examined;
     });
+    if (detectsEdges())
+    {
+      prepareEdges(kind, start, predicted);
+    }
   }
 
   // The blocks' contacts in block order, copied in parallel to their offsets (a serial
@@ -636,6 +634,10 @@ void CollisionDetector::detect(const std::vector<Vec3>& start, const std::vector
   parallelFor(blocks, 1, [&](std::size_t b) {
     std::copy(perBlock[b].begin(), perBlock[b].end(), out.begin() + static_cast<std::ptrdiff_t>(offsets[b]));
   });
+  if (!(Obstacles.empty() && !detectsBodies()) && detectsEdges())
+  {
+    detectEdges(kind, start, predicted, out);
+  }
   Stats.contacts = out.size();
 }
 

@@ -5,6 +5,58 @@
 namespace softbody
 {
 
+bool edgeEdgeContact(const EdgePair& predicted, const EdgePair& start, double thickness,
+  double queryRadius, ContactCandidate& out)
+{
+  const SegmentPair w = closestPointsOfSegments(predicted.a0, predicted.a1, predicted.b0, predicted.b1);
+  // The ends are the point-triangle contacts' (a vertex against the edge of a face); a
+  // tolerance keeps a contact that is one by rounding from being counted twice.
+  constexpr double kInside = 1e-6;
+  if (w.s <= kInside || w.s >= 1.0 - kInside || w.t <= kInside || w.t >= 1.0 - kInside)
+  {
+    return false;
+  }
+  auto along = [](const Vec3& from, const Vec3& to, double weight) { return from + weight * (to - from); };
+  const Vec3 offset = along(predicted.a0, predicted.a1, w.s) - along(predicted.b0, predicted.b1, w.t);
+  const double distance = offset.norm();
+  if (distance > queryRadius)
+  {
+    return false;
+  }
+  // The side is read at the start, from the closest points there (the edges slide along each
+  // other during the substep: the predicted weights at the start positions would tilt the
+  // normal by the slide over the gap, and a bar resting across a ridge would roll off it).
+  const SegmentPair w0 = closestPointsOfSegments(start.a0, start.a1, start.b0, start.b1);
+  const Vec3 startOffset = along(start.a0, start.a1, w0.s) - along(start.b0, start.b1, w0.t);
+  const double startDistance = startOffset.norm();
+  const Vec3 ea = start.a1 - start.a0, eb = start.b1 - start.b0;
+  if (!(startDistance > 1e-9 * (ea.norm() + eb.norm())))
+  {
+    return false; // touching at the start: no side to keep
+  }
+  // Edges at an angle: the common perpendicular of their lines, which the closest points'
+  // offset is along when both lie inside the edges, and which stays exact when one is at an
+  // end. Nearly parallel edges: the offset itself.
+  constexpr double kLeastSine = 0.05;
+  const Vec3 perpendicular = ea.cross(eb);
+  const double side = perpendicular.dot(startOffset);
+  if (perpendicular.norm() > kLeastSine * ea.norm() * eb.norm() && side != 0.0)
+  {
+    out.contact.normal = (side > 0.0 ? 1.0 : -1.0) * perpendicular.normalized();
+  }
+  else
+  {
+    out.contact.normal = startOffset / startDistance;
+  }
+  out.contact.barycentric = Vec3(w.s, w.t, 0.0);
+  out.contact.surfacePoint = Vec3::Zero(); // both sides move with their bodies
+  out.contact.thickness = thickness;
+  out.distance = distance;
+  out.onFace = true; // one feature each: nothing for the reduction to merge
+  out.behind = false;
+  return true;
+}
+
 bool pointTriangleContact(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double side,
   double thickness, double queryRadius, ContactCandidate& out)
 {

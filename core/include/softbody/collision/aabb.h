@@ -28,6 +28,11 @@ struct Aabb
     lo.array() -= amount;
     hi.array() += amount;
   }
+  /// Whether the two boxes share a point (touching counts).
+  bool overlaps(const Aabb& box) const
+  {
+    return (lo.array() <= box.hi.array()).all() && (box.lo.array() <= hi.array()).all();
+  }
   /// Squared distance from p to the box (0 inside).
   double squaredDistance(const Vec3& p) const
   {

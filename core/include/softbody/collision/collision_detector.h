@@ -48,6 +48,8 @@ struct DetectionStats
 {
   std::size_t candidatePairs = 0; ///< broad-phase pairs examined by the narrow phase
   std::size_t contacts = 0;
+  std::size_t edgePairs = 0;    ///< of candidatePairs: edge pairs examined
+  std::size_t edgeContacts = 0; ///< of contacts: edge against edge
   /// The most of one point: pairs examined by the narrow phase, and contacts kept (what the
   /// cost per point is bounded by; see kMostContactsPerSource in contact_reduction.h).
   std::size_t mostExaminedPerPoint = 0;
@@ -100,6 +102,14 @@ private:
     const std::vector<Vec3>& predicted, Candidates& candidates) const;
   bool detectsBodies() const;
   bool detectsSelf() const;
+  // Edge against edge (collision_detector_edges.cpp): the surface edges, fixed at set-up, and
+  // the pass that finds their contacts after the point pass, merged into its sorted set.
+  void buildSurfaceEdges();
+  bool detectsEdges() const;
+  void prepareEdges(BroadPhase kind, const std::vector<Vec3>& start, const std::vector<Vec3>& predicted);
+  void testEdgePair(std::size_t edge, std::size_t other, const std::vector<Vec3>& start,
+    const std::vector<Vec3>& predicted, Candidates& candidates) const;
+  void detectEdges(BroadPhase kind, const std::vector<Vec3>& start, const std::vector<Vec3>& predicted, ContactSet& out);
 
   CollisionGeometry Geometry;
   std::vector<std::int32_t> Colliding;    ///< collidingPoints, sorted, without repeats
@@ -131,6 +141,23 @@ private:
   bool SurfaceBvhBuilt = false;
   bool ObstacleBvhBuilt = false;
   std::vector<std::array<std::int32_t, 2>> ObstacleItems; ///< (obstacle, triangle) per obstacle BVH item
+  std::vector<std::array<std::int32_t, 2>> Edges; ///< surface edges (smaller point first), sorted
+  /// Per edge: the (up to two) surface triangles it borders, -1 where there is none.
+  std::vector<std::array<std::int32_t, 2>> EdgeTriangles;
+  std::vector<std::int32_t> EdgeBody;
+  std::vector<std::uint8_t> EdgeTwoSided;  ///< borders a two-sided (cloth) triangle: no outside
+  std::vector<Vec3> EdgeOutward;           ///< per substep: mean outward normal of its faces at the start
+  std::vector<double> EdgeReach;           ///< per substep: largest end displacement [m]
+  std::vector<Aabb> EdgeBoxes;             ///< per substep: predicted ends, widened by the reach
+  /// One tree per body over its edges (BodyEdges[b]: the edges, in tree item order), so an edge
+  /// searches only the bodies it may collide with: without self collisions, its own body's
+  /// edges (every one of its neighbours) are never visited.
+  std::vector<std::vector<std::int32_t>> BodyEdges;
+  std::vector<TriangleBvh> BodyEdgeBvh;
+  bool EdgeBvhsBuilt = false;
+  std::vector<ContactSet> EdgeBlockContacts;
+  std::vector<std::size_t> EdgeBlockExamined;
+  ContactSet EdgeContacts;
   std::vector<Aabb> ItemBoxes;            ///< scratch for the BVH refits
   std::vector<ContactSet> BlockContacts;  ///< per block of points, kept between detections
   std::vector<std::size_t> BlockExamined;

@@ -40,6 +40,10 @@ struct CollisionSettings
   double dynamicFriction = 0.0;
   /// In [0, 1]: the fraction of the normal approach speed kept after an impact.
   double restitution = 0.0;
+  /// Edges of body surfaces against each other (collision_detector.h); off only to measure
+  /// what they cost (bench_collision_scenes): vertex-triangle contacts alone let crossed
+  /// edges pass through each other.
+  bool edgeContacts = true;
   bool operator==(const CollisionSettings&) const = default;
 
   /// The rules every method and the filter read from the mode (decided here only).

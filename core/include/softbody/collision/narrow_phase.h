@@ -63,6 +63,25 @@ bool pointPointContact(const Vec3& p, const Vec3& q, const Vec3& fallback, doubl
 bool pointPlaneContact(const Vec3& p, const Vec3& origin, const Vec3& normal, double thickness,
   double queryRadius, ContactCandidate& out);
 
+/// The ends of two edges, in the order of an EdgeEdge contact: the first edge (a0, a1), the
+/// second (b0, b1).
+struct EdgePair
+{
+  Vec3 a0, a1, b0, b1;
+};
+
+/// Edge against edge: a contact when the edges' closest points at the end of the substep
+/// (`predicted`) lie inside both edges (an end's contact is a point-triangle one, found there)
+/// and within the query radius. The normal is the side of the second edge the first was on at
+/// the start of the substep (`start`): the common perpendicular of the edges' lines there,
+/// pointing from the second toward the first (the offset of the closest points for nearly
+/// parallel edges), so edges that crossed during the substep have C < 0 and are pushed back.
+/// Edges touching at the start, or parallel, have no such direction and are skipped (their
+/// ends' point-triangle contacts hold them). Fills kind-independent fields as
+/// pointTriangleContact does (barycentric = (s, t, 0)).
+bool edgeEdgeContact(const EdgePair& predicted, const EdgePair& start, double thickness,
+  double queryRadius, ContactCandidate& out);
+
 /// The side of a two-sided triangle a point is on: +1 when (p - closest) . normal >= 0, else
 /// -1 (evaluated at the start of the substep, where the point has not yet crossed).
 double triangleSide(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);

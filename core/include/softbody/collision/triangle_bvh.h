@@ -28,7 +28,13 @@ public:
   template <typename Visit>
   void forEachNear(const Vec3& p, double radius, const Visit& visit) const;
 
+  /// visit(item) for every item whose box overlaps `box`.
+  template <typename Visit>
+  void forEachOverlapping(const Aabb& box, const Visit& visit) const;
+
   std::size_t itemCount() const { return Items.size(); }
+  /// The box around every item (empty when there are none).
+  Aabb bounds() const { return Nodes.empty() ? Aabb{} : Nodes[0].box; }
 
 private:
   struct Node
@@ -68,6 +74,39 @@ void TriangleBvh::forEachNear(const Vec3& p, double radius, const Visit& visit) 
       for (std::uint32_t s = node.begin; s < node.end; ++s)
       {
         if (ItemBoxes[s].squaredDistance(p) <= radius2)
+        {
+          visit(Items[s]);
+        }
+      }
+      continue;
+    }
+    stack[top++] = node.left + 1;
+    stack[top++] = node.left;
+  }
+}
+
+template <typename Visit>
+void TriangleBvh::forEachOverlapping(const Aabb& box, const Visit& visit) const
+{
+  if (Nodes.empty())
+  {
+    return;
+  }
+  std::uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0)
+  {
+    const Node& node = Nodes[stack[--top]];
+    if (!node.box.overlaps(box))
+    {
+      continue;
+    }
+    if (node.left == 0)
+    {
+      for (std::uint32_t s = node.begin; s < node.end; ++s)
+      {
+        if (ItemBoxes[s].overlaps(box))
         {
           visit(Items[s]);
         }
