@@ -97,10 +97,17 @@ CollisionDetector::CollisionDetector(CollisionGeometry geometry, const Collision
     }
   }
   TriangleBody.reserve(Geometry.surfaceTriangles.size());
-  for (const auto& t : Geometry.surfaceTriangles)
+  for (std::size_t t = 0; t < Geometry.surfaceTriangles.size(); ++t)
   {
-    TriangleBody.push_back(Geometry.bodyOf[t[0]]);
+    const auto body = static_cast<std::size_t>(Geometry.bodyOf[Geometry.surfaceTriangles[t][0]]);
+    TriangleBody.push_back(static_cast<std::int32_t>(body));
+    if (BodyTriangles.size() <= body)
+    {
+      BodyTriangles.resize(body + 1);
+    }
+    BodyTriangles[body].push_back(static_cast<std::int32_t>(t));
   }
+  BodySurfaceBvh.resize(BodyTriangles.size());
   buildSurfaceEdges();
   Margin = Settings.margin > 0.0 ? Settings.margin : automaticMargin(Geometry);
   HasParticles = std::any_of(Colliding.begin(), Colliding.end(), [&](std::int32_t p) { return Geometry.radius[p] > 0.0; });
@@ -371,22 +378,24 @@ void CollisionDetector::prepareBroadPhase(BroadPhase kind, const std::vector<Vec
     return;
   }
   const auto& triangles = Geometry.surfaceTriangles;
-  if (!triangles.empty())
+  for (std::size_t body = 0; body < BodyTriangles.size(); ++body)
   {
-    ItemBoxes.resize(triangles.size());
-    parallelFor(triangles.size(), 4096, [&](std::size_t t) {
-      ItemBoxes[t] = triangleBox(predicted[triangles[t][0]], predicted[triangles[t][1]], predicted[triangles[t][2]], TriangleReach[t]);
+    const std::vector<std::int32_t>& items = BodyTriangles[body];
+    ItemBoxes.resize(items.size());
+    parallelFor(items.size(), 4096, [&](std::size_t k) {
+      const auto& t = triangles[static_cast<std::size_t>(items[k])];
+      ItemBoxes[k] = triangleBox(predicted[t[0]], predicted[t[1]], predicted[t[2]], TriangleReach[static_cast<std::size_t>(items[k])]);
     });
-    if (SurfaceBvhBuilt)
+    if (SurfaceBvhsBuilt)
     {
-      SurfaceBvh.refit(ItemBoxes);
+      BodySurfaceBvh[body].refit(ItemBoxes);
     }
     else
     {
-      SurfaceBvh.build(ItemBoxes);
-      SurfaceBvhBuilt = true;
+      BodySurfaceBvh[body].build(ItemBoxes);
     }
   }
+  SurfaceBvhsBuilt = true;
   if (!HasParticles)
   {
     return; // surface vertices meet only through triangles
@@ -477,10 +486,16 @@ void CollisionDetector::collectAccelerated(BroadPhase kind, std::size_t collidin
   {
     return;
   }
-  if (!Geometry.surfaceTriangles.empty())
+  const std::int32_t ownBody = Geometry.bodyOf[static_cast<std::size_t>(point)];
+  for (std::size_t body = 0; body < BodyTriangles.size(); ++body)
   {
-    SurfaceBvh.forEachNear(x, reach, [&](std::int32_t triangle) {
-      testPointTriangle(point, static_cast<std::size_t>(triangle), start, predicted, candidates);
+    if (static_cast<std::int32_t>(body) == ownBody && !detectsSelf())
+    {
+      continue;
+    }
+    const std::vector<std::int32_t>& items = BodyTriangles[body];
+    BodySurfaceBvh[body].forEachNear(x, reach, [&](std::int32_t item) {
+      testPointTriangle(point, static_cast<std::size_t>(items[static_cast<std::size_t>(item)]), start, predicted, candidates);
     });
   }
   if (!HasParticles)

@@ -136,9 +136,14 @@ private:
   std::vector<std::int32_t> PartnerStart; ///< point k's partners: Partners[PartnerStart[k] .. [k+1])
   std::vector<std::int32_t> Partners;
   std::vector<std::int32_t> PartnerNext;  ///< scratch of the counting sort
-  TriangleBvh SurfaceBvh;
+  /// One tree per body over its surface triangles (BodyTriangles[b]: the triangles, in tree item
+  /// order): a point searches only the bodies it may touch, so without self collisions the
+  /// triangles around it on its own body are never visited (ten tori falling apart: every point
+  /// visited its own surface's neighbourhood in one shared tree).
+  std::vector<std::vector<std::int32_t>> BodyTriangles;
+  std::vector<TriangleBvh> BodySurfaceBvh;
   TriangleBvh ObstacleBvh;
-  bool SurfaceBvhBuilt = false;
+  bool SurfaceBvhsBuilt = false;
   bool ObstacleBvhBuilt = false;
   std::vector<std::array<std::int32_t, 2>> ObstacleItems; ///< (obstacle, triangle) per obstacle BVH item
   std::vector<std::array<std::int32_t, 2>> Edges; ///< surface edges (smaller point first), sorted
