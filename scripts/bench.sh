@@ -13,7 +13,8 @@
 #
 # A complete run (no scene named, not --quick, default output folder) then writes its tables
 # into docs/accuracy.md (scripts/update_docs_tables.py) and copies its plots to docs/bench/, and
-# runs bench_tet_elasticity and bench_conditions, whose tables go into docs/performance.md.
+# runs bench_tet_elasticity, bench_collision_scenes and bench_conditions, whose tables go into
+# docs/performance.md.
 #
 # SOFTBODY_BENCH_OUT overrides output/bench; SOFTBODY_DATA_DIR the public meshes (../shared/data).
 set -euo pipefail
@@ -70,6 +71,10 @@ if [[ ${status} -eq 0 && ${quick} -eq 0 && ${scenes_given} -eq 0 && -z "${SOFTBO
   # The finite-element materials' cost per tet, into docs/performance.md.
   "${SOFTBODY_BUILD_DIR}/bin/bench_tet_elasticity" --data "${data}" --csv "${out}/tet_elasticity.csv" \
     | tee "${out}/bench_tet_elasticity.log" || status=$?
+  # Collision scenes through the whole step (detection, contact solve, edge contacts), into
+  # docs/performance.md.
+  "${SOFTBODY_BUILD_DIR}/bin/bench_collision_scenes" --repeat 3 --csv "${out}/collision_scenes.csv" \
+    | tee "${out}/bench_collision_scenes.log" || status=$?
   # What loads and boundary conditions cost per step, into docs/performance.md.
   "${SOFTBODY_BUILD_DIR}/bin/bench_conditions" --data "${data}" --csv "${out}/conditions.csv" \
     | tee "${out}/bench_conditions.log" || status=$?

@@ -9,6 +9,7 @@
 // 2. Cloth: a square sheet dropped onto a sphere obstacle standing on the floor; it drapes
 //    and its free sides fold onto it and onto themselves; Collisions = Obstacles + Bodies +
 //    Self.
+// 4. Ten tori (tenToriScene): stacked into a pile, against the same bodies apart.
 // 3. Tori: two TetGen tori (~3,000 points each, data/torus.vtp's shape) on the floor, the upper
 //    one placed 0.25 m into the lower one (issue 26: an overlapping start), against the same
 //    pair placed 1 mm apart, which lands on each other; XPBD defaults, 0.05 s frames,
@@ -16,8 +17,11 @@
 //    pair costs (the detection's candidates per point are bounded); the ratio is printed.
 //
 // Each scene runs with collisions at 1 and all threads, and with Collisions Off (the bodies
-// fall freely: the cost of everything else) at all threads; the ratios are measured in the
-// same run, and a hash of the final positions shows the thread counts computed the same thing.
+// fall freely: the cost of everything else) at all threads; the scenes with body surfaces
+// (cloth, tori) also without edge-edge contacts (CollisionSettings::edgeContacts), which is
+// what those cost. The ratios are measured in the same run, and a hash of the final positions
+// shows the thread counts computed the same thing. The table goes beside the CSV as .md, for
+// docs/performance.md (scripts/bench.sh).
 // The load average is printed first: on a shared machine other processes' work shows in every
 // time.
 //
@@ -39,6 +43,8 @@
 #include <fstream>
 #include <functional>
 #include <string>
+#include <tuple>
+#include <vector>
 
 using namespace softbody;
 
@@ -143,6 +149,41 @@ CollisionScene torusScene(const std::string& name, double overlap, bool smoke)
   return scene;
 }
 
+/// Ten TetGen tori (data/torus.vtp's shape, 8,205 tets each, 2,349 points) dropped onto the floor, stacked
+/// 1 mm apart (`tori10-pile`: each lands on the one below) or side by side 0.6 m apart
+/// (`tori10-apart`: each lands on the floor alone); XPBD defaults, 0.05 s frames. The pile over
+/// the bodies apart is what resting on each other costs (issue 26: at most ~3x).
+CollisionScene tenToriScene(bool pile, bool smoke)
+{
+  CollisionScene scene;
+  scene.name = pile ? "tori10-pile" : "tori10-apart";
+  const TetMesh torus = test::tetTorus(smoke ? 2e-4 : 1e-5);
+  double low = 1e9, high = -1e9;
+  for (const Vec3& p : torus.points)
+  {
+    low = std::min(low, p.z());
+    high = std::max(high, p.z());
+  }
+  for (int k = 0; k < 10; ++k)
+  {
+    const Vec3 centre = pile ? Vec3(0.0, 0.0, 0.5 + k * (high - low + 0.001))
+                             : Vec3(0.6 * (k % 5), 0.6 * (k / 5), 0.5);
+    PbdBody body;
+    for (const Vec3& p : torus.points)
+    {
+      body.points.push_back(p + centre);
+    }
+    body.tets = torus.tets;
+    test::appendBody(scene.body, body);
+  }
+  PbdSettings& s = scene.settings; // XPBD defaults
+  s.floorEnabled = true;
+  s.collisions.mode = CollisionMode::ObstaclesAndBodies;
+  scene.frame = 0.05;
+  scene.frames = smoke ? 4 : 12; // the lowest lands at ~0.25 s, the pile settles on it
+  return scene;
+}
+
 struct Run
 {
   double frameMs = 0.0;   ///< wall time per frame [ms]
@@ -154,16 +195,31 @@ struct Run
   double examinedPerPoint = 0.0; ///< narrow-phase pairs per colliding point, mean over the frames' last detections
   std::size_t mostExamined = 0;  ///< the most of one point in those detections
   std::size_t mostContacts = 0;
+  double edgeContacts = 0.0;     ///< edge-edge contacts, mean over the frames' last detections
 };
 
-Run runScene(const CollisionScene& scene, int threads, bool collisions)
+/// What a run collides: everything, nothing, or everything but edge against edge.
+enum class Collide
+{
+  On,
+  Off,
+  WithoutEdges
+};
+
+const char* collideName(Collide c)
+{
+  return c == Collide::On ? "on" : (c == Collide::Off ? "off" : "no edges");
+}
+
+Run runScene(const CollisionScene& scene, int threads, Collide collide)
 {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   PbdSettings settings = scene.settings;
-  if (!collisions)
+  if (collide == Collide::Off)
   {
     settings.collisions.mode = CollisionMode::Off;
   }
+  settings.collisions.edgeContacts = collide != Collide::WithoutEdges;
   PbdSimulation sim(scene.body, settings);
   sim.setObstacles(scene.obstacles, 0.0);
   Run run;
@@ -178,6 +234,7 @@ Run runScene(const CollisionScene& scene, int threads, bool collisions)
       examined += static_cast<double>(stats.candidatePairs) / static_cast<double>(sim.positions().size());
       run.mostExamined = std::max(run.mostExamined, stats.mostExaminedPerPoint);
       run.mostContacts = std::max(run.mostContacts, stats.mostContactsPerPoint);
+      run.edgeContacts += static_cast<double>(stats.edgeContacts) / scene.frames;
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -197,13 +254,20 @@ Run runScene(const CollisionScene& scene, int threads, bool collisions)
   return run;
 }
 
-/// The run with the least frame time of `repeat` (other processes share the machine).
-Run best(const CollisionScene& scene, int threads, bool collisions, int repeat)
+std::string twoDecimals(double value)
 {
-  Run fastest = runScene(scene, threads, collisions);
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f", value);
+  return text;
+}
+
+/// The run with the least frame time of `repeat` (other processes share the machine).
+Run best(const CollisionScene& scene, int threads, Collide collide, int repeat)
+{
+  Run fastest = runScene(scene, threads, collide);
   for (int k = 1; k < repeat; ++k)
   {
-    const Run run = runScene(scene, threads, collisions);
+    const Run run = runScene(scene, threads, collide);
     fastest = run.frameMs < fastest.frameMs ? run : fastest;
   }
   return fastest;
@@ -229,27 +293,62 @@ int main(int argc, char** argv)
               "average %.2f %.2f %.2f%s\n",
     repeat, maxThreads, load[0], load[1], load[2], load[0] > 0.5 * maxThreads ? " (machine shared: times inflated)" : "");
   std::ofstream csv(options.csv);
-  csv << "scene,points,threads,collisions,frame_ms,detect_ms,contact_solve_ms,hash\n";
-  std::printf("%-12s %7s %7s %-10s %10s %10s %10s %10s %18s %9s %9s %9s %9s\n", "scene", "points", "threads", "collisions",
-    "frame ms", "detect ms", "contact ms", "other ms", "state hash", "lowest z", "pairs/pt", "most/pt", "contacts");
+  csv << "scene,points,threads,collisions,frame_ms,detect_ms,contact_solve_ms,edge_contacts,hash\n";
+  // The same as a table for docs/performance.md (scripts/update_docs_tables.py), beside the CSV.
+  std::string md = options.csv;
+  md = (md.size() > 4 && md.compare(md.size() - 4, 4, ".csv") == 0 ? md.substr(0, md.size() - 4) : md) + ".md";
+  std::ofstream table(md);
+  table << "| scene | points | tets | threads | collisions | ms per frame | detection ms | contact solve ms | "
+           "x Collisions Off | edge contacts | same state at 1 and " << maxThreads << " threads |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  std::printf("%-12s %7s %7s %-10s %10s %10s %10s %10s %18s %9s %9s %9s %9s %9s\n", "scene", "points", "threads", "collisions",
+    "frame ms", "detect ms", "contact ms", "other ms", "state hash", "lowest z", "pairs/pt", "most/pt", "contacts", "edge c.");
   int status = 0;
+  char line[320];
   double toriFrameMs[2] = { 0.0, 0.0 }; // overlapping, touching (all threads)
   double toriDetectMs[2] = { 0.0, 0.0 };
+  double tenToriFrameMs[2] = { 0.0, 0.0 }; // pile, apart (all threads)
+  double tenToriDetectMs[2] = { 0.0, 0.0 };
   for (const CollisionScene& scene : { pileScene(options.smoke), clothScene(options.smoke),
-         torusScene("tori-overlap", 0.25, options.smoke), torusScene("tori-touch", -0.001, options.smoke) })
+         torusScene("tori-overlap", 0.25, options.smoke), torusScene("tori-touch", -0.001, options.smoke),
+         tenToriScene(true, options.smoke), tenToriScene(false, options.smoke) })
   {
-    const Run one = best(scene, 1, true, repeat);
-    const Run all = best(scene, maxThreads, true, repeat);
-    const Run off = best(scene, maxThreads, false, repeat);
-    for (const auto& [threads, collisions, run] :
-      { std::tuple{ 1, true, one }, std::tuple{ maxThreads, true, all }, std::tuple{ maxThreads, false, off } })
+    const bool hasSurfaces = scene.name != "pile"; // the pile's bodies are particle lattices
+    const Run one = best(scene, 1, Collide::On, repeat);
+    const Run all = best(scene, maxThreads, Collide::On, repeat);
+    const Run off = best(scene, maxThreads, Collide::Off, repeat);
+    std::vector<std::tuple<int, Collide, Run>> runs{ { 1, Collide::On, one }, { maxThreads, Collide::On, all },
+      { maxThreads, Collide::Off, off } };
+    if (hasSurfaces)
     {
-      std::printf("%-12s %7zu %7d %-10s %10.2f %10.2f %10.2f %10.2f %18llx %9.4f %9.1f %9zu %9zu\n", scene.name.c_str(),
-        run.points, threads, collisions ? "on" : "off", run.frameMs, run.detectMs, run.contactMs,
+      runs.emplace_back(maxThreads, Collide::WithoutEdges, best(scene, maxThreads, Collide::WithoutEdges, repeat));
+    }
+    for (const auto& [threads, collide, run] : runs)
+    {
+      std::printf("%-12s %7zu %7d %-10s %10.2f %10.2f %10.2f %10.2f %18llx %9.4f %9.1f %9zu %9zu %9.1f\n", scene.name.c_str(),
+        run.points, threads, collideName(collide), run.frameMs, run.detectMs, run.contactMs,
         run.frameMs - run.detectMs - run.contactMs, static_cast<unsigned long long>(run.hash), run.lowest,
-        run.examinedPerPoint, run.mostExamined, run.mostContacts);
-      csv << scene.name << ',' << run.points << ',' << threads << ',' << (collisions ? "on" : "off") << ',' << run.frameMs
-          << ',' << run.detectMs << ',' << run.contactMs << ',' << run.hash << '\n';
+        run.examinedPerPoint, run.mostExamined, run.mostContacts, run.edgeContacts);
+      csv << scene.name << ',' << run.points << ',' << threads << ',' << collideName(collide) << ',' << run.frameMs
+          << ',' << run.detectMs << ',' << run.contactMs << ',' << run.edgeContacts << ',' << run.hash << '\n';
+      std::snprintf(line, sizeof line, "| %s | %zu | %zu | %d | %s | %.2f | %s | %s | %.2f | %.0f | %s |\n", scene.name.c_str(),
+        run.points, scene.body.tets.size(), threads, collideName(collide), run.frameMs,
+        collide == Collide::Off ? "-" : twoDecimals(run.detectMs).c_str(),
+        collide == Collide::Off ? "-" : twoDecimals(run.contactMs).c_str(), run.frameMs / off.frameMs,
+        run.edgeContacts, threads == 1 ? (one.hash == all.hash ? "yes" : "NO") : "");
+      table << line;
+    }
+    if (hasSurfaces)
+    {
+      const Run& withoutEdges = std::get<2>(runs.back());
+      std::printf("%-12s edge contacts on / off: %.2f x the frame time, %.2f x the detection time (%.0f edge contacts per frame)\n",
+        scene.name.c_str(), all.frameMs / withoutEdges.frameMs, all.detectMs / withoutEdges.detectMs, all.edgeContacts);
+    }
+    if (scene.name.rfind("tori10-", 0) == 0)
+    {
+      const int k = scene.name == "tori10-pile" ? 0 : 1;
+      tenToriFrameMs[k] = all.frameMs;
+      tenToriDetectMs[k] = all.detectMs;
     }
     if (scene.name.rfind("tori-", 0) == 0)
     {
@@ -273,6 +372,16 @@ int main(int argc, char** argv)
   }
   std::printf("tori overlapping 0.25 m / touching: %.2f x the frame time, %.2f x the detection time\n",
     toriFrameMs[0] / toriFrameMs[1], toriDetectMs[0] / toriDetectMs[1]);
+  std::printf("ten tori piled / apart: %.2f x the frame time, %.2f x the detection time\n",
+    tenToriFrameMs[0] / tenToriFrameMs[1], tenToriDetectMs[0] / tenToriDetectMs[1]);
+  // The ratios the documentation quotes, as a table of their own.
+  table << "\n| measured in the same run (all threads) | frame time | detection time |\n|---|---|---|\n";
+  std::snprintf(line, sizeof line, "| ten tori piled / apart | %.2f | %.2f |\n", tenToriFrameMs[0] / tenToriFrameMs[1],
+    tenToriDetectMs[0] / tenToriDetectMs[1]);
+  table << line;
+  std::snprintf(line, sizeof line, "| two tori overlapping 0.25 m / touching | %.2f | %.2f |\n",
+    toriFrameMs[0] / toriFrameMs[1], toriDetectMs[0] / toriDetectMs[1]);
+  table << line;
   std::printf("CSV: %s\n", options.csv.c_str());
   return status;
 }
