@@ -97,15 +97,17 @@ CollisionDetector::CollisionDetector(CollisionGeometry geometry, const Collision
     }
   }
   TriangleBody.reserve(Geometry.surfaceTriangles.size());
-  for (std::size_t t = 0; t < Geometry.surfaceTriangles.size(); ++t)
+  for (const auto& t : Geometry.surfaceTriangles)
   {
-    const auto body = static_cast<std::size_t>(Geometry.bodyOf[Geometry.surfaceTriangles[t][0]]);
-    TriangleBody.push_back(static_cast<std::int32_t>(body));
-    if (BodyTriangles.size() <= body)
-    {
-      BodyTriangles.resize(body + 1);
-    }
-    BodyTriangles[body].push_back(static_cast<std::int32_t>(t));
+    TriangleBody.push_back(Geometry.bodyOf[t[0]]);
+  }
+  SurfaceBodies = TriangleBody;
+  std::sort(SurfaceBodies.begin(), SurfaceBodies.end());
+  SurfaceBodies.erase(std::unique(SurfaceBodies.begin(), SurfaceBodies.end()), SurfaceBodies.end());
+  BodyTriangles.resize(SurfaceBodies.size());
+  for (std::size_t t = 0; t < TriangleBody.size(); ++t)
+  {
+    BodyTriangles[surfaceSlot(TriangleBody[t])].push_back(static_cast<std::int32_t>(t));
   }
   BodySurfaceBvh.resize(BodyTriangles.size());
   buildSurfaceEdges();
@@ -130,6 +132,12 @@ void CollisionDetector::setObstacles(std::vector<ObstacleSurface> obstacles, dou
       ObstacleItems.push_back({ static_cast<std::int32_t>(o), static_cast<std::int32_t>(t) });
     }
   }
+}
+
+std::size_t CollisionDetector::surfaceSlot(std::int32_t body) const
+{
+  return static_cast<std::size_t>(
+    std::lower_bound(SurfaceBodies.begin(), SurfaceBodies.end(), body) - SurfaceBodies.begin());
 }
 
 bool CollisionDetector::detectsBodies() const
@@ -489,7 +497,7 @@ void CollisionDetector::collectAccelerated(BroadPhase kind, std::size_t collidin
   const std::int32_t ownBody = Geometry.bodyOf[static_cast<std::size_t>(point)];
   for (std::size_t body = 0; body < BodyTriangles.size(); ++body)
   {
-    if (static_cast<std::int32_t>(body) == ownBody && !detectsSelf())
+    if (SurfaceBodies[body] == ownBody && !detectsSelf())
     {
       continue;
     }

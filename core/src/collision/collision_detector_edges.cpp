@@ -64,7 +64,7 @@ void CollisionDetector::buildSurfaceEdges()
     {
       Edges.push_back(e.ends);
       EdgeTriangles.push_back({ e.triangle, -1 });
-      EdgeBody.push_back(Geometry.bodyOf[static_cast<std::size_t>(e.ends[0])]);
+      EdgeBody.push_back(TriangleBody[static_cast<std::size_t>(e.triangle)]); // its faces' body
       EdgeTwoSided.push_back(0);
     }
     if (!Geometry.twoSided.empty() && Geometry.twoSided[static_cast<std::size_t>(e.triangle)])
@@ -72,14 +72,10 @@ void CollisionDetector::buildSurfaceEdges()
       EdgeTwoSided.back() = 1;
     }
   }
+  BodyEdges.resize(SurfaceBodies.size()); // an edge's body has its triangles
   for (std::size_t e = 0; e < Edges.size(); ++e)
   {
-    const auto body = static_cast<std::size_t>(EdgeBody[e]);
-    if (BodyEdges.size() <= body)
-    {
-      BodyEdges.resize(body + 1);
-    }
-    BodyEdges[body].push_back(static_cast<std::int32_t>(e));
+    BodyEdges[surfaceSlot(EdgeBody[e])].push_back(static_cast<std::int32_t>(e));
   }
   BodyEdgeBvh.resize(BodyEdges.size());
 }
@@ -224,7 +220,7 @@ void CollisionDetector::detectEdges(
         query.inflate(Margin);
         for (std::size_t body = 0; body < BodyEdges.size(); ++body)
         {
-          const bool own = static_cast<std::int32_t>(body) == EdgeBody[e];
+          const bool own = SurfaceBodies[body] == EdgeBody[e];
           if (own && !detectsSelf())
           {
             continue;

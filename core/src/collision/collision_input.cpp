@@ -31,12 +31,6 @@ void validateCollisionGeometry(const CollisionGeometry& g)
   for (std::size_t i = 0; i < n; ++i)
   {
     check::finite("Collision geometry rest position", g.rest[i]);
-    // Bodies are numbered from 0 (the detector keeps per-body trees): at most one per point.
-    if (g.bodyOf[i] < 0 || static_cast<std::size_t>(g.bodyOf[i]) >= n)
-    {
-      throw InvalidInputError("Collision geometry: the body of point " + indexText(i) + " must be in [0, " +
-        indexText(n) + "), got " + std::to_string(g.bodyOf[i]) + ".");
-    }
     if (!std::isfinite(g.radius[i]) || g.radius[i] < 0.0)
     {
       throw InvalidInputError("Collision geometry: the radius of point " + indexText(i) +

@@ -136,7 +136,11 @@ private:
   std::vector<std::int32_t> PartnerStart; ///< point k's partners: Partners[PartnerStart[k] .. [k+1])
   std::vector<std::int32_t> Partners;
   std::vector<std::int32_t> PartnerNext;  ///< scratch of the counting sort
-  /// One tree per body over its surface triangles (BodyTriangles[b]: the triangles, in tree item
+  /// The bodies that have surface triangles, sorted: slot k of the per-body trees below is body
+  /// SurfaceBodies[k] (body numbers are the caller's, not necessarily 0..n-1).
+  std::vector<std::int32_t> SurfaceBodies;
+  std::size_t surfaceSlot(std::int32_t body) const;
+  /// One tree per body over its surface triangles (BodyTriangles[slot]: the triangles, in tree item
   /// order): a point searches only the bodies it may touch, so without self collisions the
   /// triangles around it on its own body are never visited (ten tori falling apart: every point
   /// visited its own surface's neighbourhood in one shared tree).
@@ -154,7 +158,7 @@ private:
   std::vector<Vec3> EdgeOutward;           ///< per substep: mean outward normal of its faces at the start
   std::vector<double> EdgeReach;           ///< per substep: largest end displacement [m]
   std::vector<Aabb> EdgeBoxes;             ///< per substep: predicted ends, widened by the reach
-  /// One tree per body over its edges (BodyEdges[b]: the edges, in tree item order), so an edge
+  /// One tree per body over its edges (BodyEdges[slot]: the edges, in tree item order), so an edge
   /// searches only the bodies it may collide with: without self collisions, its own body's
   /// edges (every one of its neighbours) are never visited.
   std::vector<std::vector<std::int32_t>> BodyEdges;
