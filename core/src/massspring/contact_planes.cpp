@@ -34,11 +34,54 @@ double ContactPlanes::depth(std::size_t i, const Vec3& x) const
   return (x - p.origin).dot(p.normal);
 }
 
-void ContactPlanes::addObstacleContacts(
-  const ContactSet& detected, const std::vector<Vec3>& start, const std::vector<Vec3>& predicted)
+namespace
 {
-  // The contact set is sorted by point: each point's obstacle contacts are one run of it, read
-  // in order, so the planes and their numbering do not depend on the thread count.
+
+/// The plane a contact keeps its point in front of at the step's end, or none for the kinds
+/// that couple two moving sides through more than one point (edge against edge: after the
+/// step). Obstacle: the face's tangent plane at the closest point, where the obstacle is at the
+/// step's end. PointTriangle: the other body's face where its explicit prediction puts it,
+/// moving at its corners' start velocity.
+std::optional<ContactPlane> planeOf(const Contact& c, const std::vector<Vec3>& predicted, const std::vector<Vec3>& velocities)
+{
+  if (c.kind == ContactKind::Obstacle)
+  {
+    return ContactPlane{ c.surfacePoint + c.thickness * c.normal, c.normal, c.surfaceVelocity };
+  }
+  if (c.kind != ContactKind::PointTriangle)
+  {
+    return std::nullopt;
+  }
+  Vec3 closest = Vec3::Zero(), velocity = Vec3::Zero();
+  for (int k = 0; k < 3; ++k)
+  {
+    const auto corner = static_cast<std::size_t>(c.other[static_cast<std::size_t>(k)]);
+    closest += c.barycentric[k] * predicted[corner];
+    velocity += c.barycentric[k] * velocities[corner];
+  }
+  return ContactPlane{ closest + c.thickness * c.normal, c.normal, velocity };
+}
+
+/// Whether the point started in front of the contact's surface (where it was at the start).
+bool startsInFront(const Contact& c, const std::vector<Vec3>& start)
+{
+  Vec3 surface = c.surfacePoint;
+  if (c.kind == ContactKind::PointTriangle)
+  {
+    surface = c.barycentric[0] * start[static_cast<std::size_t>(c.other[0])] +
+      c.barycentric[1] * start[static_cast<std::size_t>(c.other[1])] +
+      c.barycentric[2] * start[static_cast<std::size_t>(c.other[2])];
+  }
+  return c.normal.dot(start[static_cast<std::size_t>(c.point)] - surface) >= 0.0;
+}
+
+} // namespace
+
+void ContactPlanes::addContacts(const ContactSet& detected, const std::vector<Vec3>& start,
+  const std::vector<Vec3>& predicted, const std::vector<Vec3>& velocities)
+{
+  // The contact set is sorted by point: each point's contacts are one run of it, read in
+  // order, so the planes and their numbering do not depend on the thread count.
   for (std::size_t k = 0; k < detected.size();)
   {
     const std::int32_t point = detected[k].point;
@@ -48,7 +91,7 @@ void ContactPlanes::addObstacleContacts(
     {
       const Contact& c = detected[end];
       someInFront = someInFront ||
-        (c.kind == ContactKind::Obstacle && c.normal.dot(start[point] - c.surfacePoint) >= 0.0);
+        ((c.kind == ContactKind::Obstacle || c.kind == ContactKind::PointTriangle) && startsInFront(c, start));
       ++end;
     }
     const auto i = static_cast<std::size_t>(point);
@@ -57,13 +100,12 @@ void ContactPlanes::addObstacleContacts(
     for (; k < end; ++k)
     {
       const Contact& c = detected[k];
-      if (c.kind != ContactKind::Obstacle ||
-        (someInFront && c.normal.dot(start[i] - c.surfacePoint) < 0.0))
+      const std::optional<ContactPlane> plane = planeOf(c, predicted, velocities);
+      if (!plane || (someInFront && !startsInFront(c, start)))
       {
         continue;
       }
-      const ContactPlane plane{ c.surfacePoint + c.thickness * c.normal, c.normal, c.surfaceVelocity };
-      const double d = (predicted[i] - plane.origin).dot(plane.normal);
+      const double d = (predicted[i] - plane->origin).dot(plane->normal);
       if (d < deepest)
       {
         deepest = d;

@@ -214,7 +214,7 @@ void MassSpringSimulation::integrateImplicit(double h)
 
 void MassSpringSimulation::stepOnce(double h)
 {
-  if (Implicit && HasObstacles && Detector)
+  if (Implicit && Detector && (HasObstacles || Scene.collisions.bodiesCollide()))
   {
     findObstaclePlanes(h);
   }
@@ -282,9 +282,9 @@ void MassSpringSimulation::takeStep(double h)
 
 void MassSpringSimulation::findObstaclePlanes(double h)
 {
-  // The obstacle faces each point may reach in the step, from a sweep to the explicit
-  // prediction x0 + h v0 + h^2 g: the implicit solve then keeps the points in front of them
-  // (contact_planes.h).
+  // The obstacle faces, and other bodies' faces, each point may reach in the step, from a sweep
+  // to the explicit prediction x0 + h v0 + h^2 g: the implicit solve then keeps the points in
+  // front of them (contact_planes.h).
   ScopedStageTimer timer(Plan, Stage::CollisionDetect);
   const std::vector<double>& w = Masses.inverseMass;
   Predicted.resize(State.positions.size());
@@ -295,7 +295,7 @@ void MassSpringSimulation::findObstaclePlanes(double h)
   Detector->detect(State.positions, Predicted, State.time, h, PlaneContacts);
   ContactPlanes& planes = Implicit->contactPlanes();
   planes.reset(State.positions.size());
-  planes.addObstacleContacts(PlaneContacts, State.positions, Predicted);
+  planes.addContacts(PlaneContacts, State.positions, Predicted, State.velocities);
 }
 
 void MassSpringSimulation::resolveContacts(double h)

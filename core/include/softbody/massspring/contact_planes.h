@@ -45,14 +45,19 @@ public:
 
   /// Every one of `pointCount` points gets the floor (or no plane); obstacle planes are gone.
   void reset(std::size_t pointCount);
-  /// Adds the planes of the Obstacle contacts of `detected` (the detector's contacts of the
-  /// sweep from `start` to `predicted`; others are skipped): a point keeps, of its planes and the
-  /// floor, the one `predicted` lies deepest behind (or least in front of). A point that starts
-  /// behind a face is reached from the wrong side (the underside of a thin plate it crossed):
-  /// such faces count only when the point starts behind all of its faces (a body started inside
-  /// an obstacle: the nearest face pushes it out), as in the contact response.
-  void addObstacleContacts(const ContactSet& detected, const std::vector<Vec3>& start,
-    const std::vector<Vec3>& predicted);
+  /// Adds the planes of the Obstacle and PointTriangle contacts of `detected` (the detector's
+  /// contacts of the sweep from `start` to `predicted`; edge contacts are left to the response
+  /// after the step): a point keeps, of its planes and the floor, the one `predicted` lies
+  /// deepest behind (or least in front of). An obstacle's plane is its face where it is at the
+  /// step's end; another body's face is where its own prediction puts it, moving at its corners'
+  /// start `velocities` (friction is relative to that): bodies falling together keep their
+  /// places, and a body landing on another stops on it in the solve instead of being projected
+  /// out of it after the step. A point that starts behind a face is reached from the wrong side
+  /// (the underside of a thin plate it crossed, a body placed inside another): such faces count
+  /// only when the point starts behind all of its faces (the nearest one pushes it out), as in
+  /// the contact response.
+  void addContacts(const ContactSet& detected, const std::vector<Vec3>& start, const std::vector<Vec3>& predicted,
+    const std::vector<Vec3>& velocities);
 
   /// Per point, the size of its elements [m] (pointElementSizes): how far friction may move
   /// it after the solve (implicit_solve.cpp); none given: 0 for all, no bound.

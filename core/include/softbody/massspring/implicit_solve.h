@@ -64,7 +64,7 @@ public:
     ImplicitConvergence& convergence);
 
   /// The contact planes of the coming steps: the floor's alone unless the owner adds the
-  /// obstacles' before each step (ContactPlanes::reset, addObstacleContacts).
+  /// obstacles' and other bodies' before each step (ContactPlanes::reset, addContacts).
   ContactPlanes& contactPlanes() { return Planes; }
 
 private:
