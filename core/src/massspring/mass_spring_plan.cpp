@@ -74,14 +74,15 @@ StepPlan planMassSpring(const SceneSettings& scene, const std::string& elements,
   if (scene.collisions.on() && (detectedFloor || hasObstacles || bodies))
   {
     std::string what = detectedFloor ? "floor" : "";
-    auto join = [&](const char* part) { what += (what.empty() ? "" : ", ") + std::string(part); };
+    auto join = [&](const std::string& part) { what += (what.empty() ? "" : ", ") + part; };
     if (hasObstacles)
     {
       join(implicit ? "obstacles (held in the solve)" : "obstacles");
     }
     if (bodies)
     {
-      join(scene.collisions.selfCollides() ? "bodies, self" : "bodies");
+      const std::string label = scene.collisions.selfCollides() ? "bodies, self" : "bodies";
+      join(implicit ? label + " (faces held in the solve)" : label);
     }
     plan.add(Stage::CollisionDetect, what);
     plan.add(Stage::Contacts, "projection + velocity response");
