@@ -12,8 +12,11 @@
 #include "softbody/pbd/pbd_simulation.h"
 #include "collision_test_scenes.h"
 
+#include <tbb/global_control.h>
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -302,4 +305,28 @@ TEST(EdgeContacts, ABarDroppedAcrossTwoRidgesRestsOnThemUnderEveryMethodAndFalls
   // The controls: nothing else holds the ridges, and the upper bar goes through.
   EXPECT_LT(withoutEdges, -kHalfWidth);
   EXPECT_LT(xpbdWithoutEdges, -kHalfWidth);
+}
+
+TEST(EdgeContacts, OneAndTwoThreadsGiveBitIdenticalStates)
+{
+  // The bar on the ridges under XPBD, with the edge pass's blocks split over threads.
+  const CrossedBars bars = crossedBars(0.01, 2);
+  auto run = [&](std::size_t threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    PbdBody body;
+    body.points = bars.mesh.points;
+    body.tets = bars.mesh.tets;
+    body.pinned = bars.pinned;
+    PbdSettings settings;
+    settings.floorEnabled = false;
+    settings.collisions.mode = CollisionMode::ObstaclesBodiesAndSelf;
+    settings.collisions.margin = 0.002;
+    PbdSimulation sim(body, settings);
+    sim.advance(0.2);
+    return sim.positions();
+  };
+  const std::vector<Vec3> one = run(1);
+  const std::vector<Vec3> two = run(2);
+  ASSERT_EQ(one.size(), two.size());
+  EXPECT_TRUE(std::equal(one.begin(), one.end(), two.begin(), [](const Vec3& a, const Vec3& b) { return a == b; }));
 }
