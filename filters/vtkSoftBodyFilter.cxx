@@ -368,7 +368,7 @@ bool vtkSoftBodyFilter::AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData*
     }
   }
   const std::string inversionWarning = vtkSoftBodyOutputAssembly::FillMesh(input, internals.Built,
-    this->P, internals.RunWarning, surface ? internals.Skin.GetWarning() : std::string(),
+    this->P, { internals.RunWarning, internals.LandingWarning }, surface ? internals.Skin.GetWarning() : std::string(),
     outputs.Mesh);
   if (!inversionWarning.empty() && !internals.InversionSaid)
   {

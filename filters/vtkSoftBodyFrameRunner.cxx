@@ -1,6 +1,7 @@
 #include "vtkSoftBodyFrameRunner.h"
 
 #include "vtkSoftBodyArrays.h"
+#include "vtkSoftBodyImplicitReport.h"
 
 #include "vtkLogger.h"
 #include "vtkUnstructuredGrid.h"
@@ -52,6 +53,14 @@ vtkSoftBodyFrameRunner::Result vtkSoftBodyFrameRunner::Simulate(vtkUnstructuredG
     {
       hooks.Warn(internals.RunWarning);
       internals.RunWarningSaid = internals.RunWarning;
+    }
+    // An implicit step is TimeStep, or the whole frame at TimeStep = 0.
+    internals.LandingWarning = vtkSoftBodyImplicitReport::LandingWarning(
+      *internals.Built.Simulation, p.TimeStep > 0.0 ? p.TimeStep : p.FrameInterval);
+    if (!internals.LandingWarning.empty() && internals.LandingWarning != internals.LandingWarningSaid)
+    {
+      hooks.Warn(internals.LandingWarning);
+      internals.LandingWarningSaid = internals.LandingWarning;
     }
     return this->AdvanceTo(t, p, hooks, stepsTotal);
   }

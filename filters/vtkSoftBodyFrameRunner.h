@@ -79,6 +79,9 @@ public:
   std::vector<double> ConditionChangeTimes(double frameInterval) const;
 
   std::string RunWarning;     ///< the run to EndTime will take long (steps, time, remedies)
+  /// The implicit steps will land the body on the floor faster than its elements can take
+  /// (vtkSoftBodyImplicitReport::LandingWarning); said before the run, like RunWarning.
+  std::string LandingWarning;
   bool InversionSaid = false; ///< inverted tets were warned of (once per simulation)
 
 private:
@@ -110,6 +113,7 @@ private:
   vtkMTimeType InputMTime = 0;
   vtkSoftBodyCoreSettings Settings;
   std::string RunWarningSaid; ///< the last long-run warning printed, so it is said once
+  std::string LandingWarningSaid; ///< the last landing warning printed
   /// The conditions' values over the run: from grid frame `first` on, `second` (the first
   /// entry from frame 0; one more per change made during playback).
   std::vector<std::pair<int, std::vector<softbody::Condition>>> ConditionEpochs;

@@ -1,5 +1,8 @@
 #include "vtkSoftBodyImplicitReport.h"
 
+#include "softbody/mesh/reorder.h"
+#include "softbody/massspring/mass_spring_simulation.h"
+
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
@@ -92,4 +95,16 @@ std::string vtkSoftBodyImplicitReport::Warning(
   }
   message << ".";
   return message.str();
+}
+
+//------------------------------------------------------------------------------
+std::string vtkSoftBodyImplicitReport::LandingWarning(const softbody::Simulation& simulation, double step)
+{
+  const softbody::Simulation* inner = &simulation;
+  if (const auto* reordered = dynamic_cast<const softbody::ReorderedSimulation*>(inner))
+  {
+    inner = &reordered->inner(); // the estimate reads no point by index
+  }
+  const auto* massSpring = dynamic_cast<const softbody::MassSpringSimulation*>(inner);
+  return massSpring ? massSpring->landingStepWarning(step) : std::string();
 }

@@ -17,6 +17,10 @@
 
 class vtkFieldData;
 class vtkTable;
+namespace softbody
+{
+class Simulation;
+}
 
 struct vtkSoftBodyImplicitReport
 {
@@ -29,6 +33,10 @@ struct vtkSoftBodyImplicitReport
   /// size; else how many, the worst approach, and the TimeStep that avoids it.
   static std::string ContactWarning(const softbody::ImplicitConvergence& convergence,
     const char* integrator);
+  /// Said before the run: empty unless `simulation` is a Mass-Spring body under an implicit
+  /// integrator that steps of `step` [s] will land on the floor faster than its elements take
+  /// in one step (MassSpringSimulation::landingStepWarning).
+  static std::string LandingWarning(const softbody::Simulation& simulation, double step);
 };
 
 #endif

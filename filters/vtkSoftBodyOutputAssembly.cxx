@@ -129,7 +129,7 @@ void vtkSoftBodyOutputAssembly::StampTime(vtkInformationVector* outputVector, do
 //------------------------------------------------------------------------------
 std::string vtkSoftBodyOutputAssembly::FillMesh(vtkUnstructuredGrid* input,
   const vtkSoftBodyBuiltSimulation& built, const vtkSoftBodyParameters& p,
-  const std::string& runWarning, const std::string& surfaceWarning, vtkUnstructuredGrid* output)
+  const std::vector<std::string>& beforeRun, const std::string& surfaceWarning, vtkUnstructuredGrid* output)
 {
   const softbody::Simulation& simulation = *built.Simulation;
 
@@ -217,9 +217,12 @@ std::string vtkSoftBodyOutputAssembly::FillMesh(vtkUnstructuredGrid* input,
   {
     warnings.push_back(built.DeviceWarning);
   }
-  if (!runWarning.empty())
+  for (const std::string& said : beforeRun)
   {
-    warnings.push_back(runWarning);
+    if (!said.empty())
+    {
+      warnings.push_back(said);
+    }
   }
   if (implicit)
   {

@@ -48,10 +48,11 @@ void StampTime(vtkInformationVector* outputVector, double t);
 
 /// The Mesh port: `input`'s cells and arrays with the simulation's points, point arrays
 /// Velocity (the active scalars) and Displacement, cell array VolumeRatio, and the field
-/// data. `runWarning` (a long run to EndTime) and `surfaceWarning` (the Surface binding) join
-/// Warnings when not empty. Returns the inverted-tets warning, empty when there is none.
+/// data. `beforeRun` (what was said before the run: a long run to EndTime, a landing too fast
+/// for the implicit step) and `surfaceWarning` (the Surface binding) join Warnings when not
+/// empty. Returns the inverted-tets warning, empty when there is none.
 std::string FillMesh(vtkUnstructuredGrid* input, const vtkSoftBodyBuiltSimulation& built,
-  const vtkSoftBodyParameters& p, const std::string& runWarning,
+  const vtkSoftBodyParameters& p, const std::vector<std::string>& beforeRun,
   const std::string& surfaceWarning, vtkUnstructuredGrid* output);
 
 /// The Particles port: one vertex per Mesh point, sharing the Mesh's points and Velocity, and

@@ -57,6 +57,11 @@ for integrator, linear_solve in [("Implicit Euler", "linear solve: block-Jacobi 
         "reached a contact faster than its elements" in warnings) else ""
     sbt.check(advice != "" and 0.0 < float(advice) < FRAME,
               f"{integrator}: the landing step faster than the elements is reported with a shorter TimeStep ({warnings!r})")
+    # ... and it was said before the run, from the jelly's height over the floor.
+    ahead = warnings.split("Take a TimeStep of at most ")[-1].split(" s,")[0] if (
+        "will reach the floor at about" in warnings) else ""
+    sbt.check(ahead != "" and 0.0 < float(ahead) < FRAME,
+              f"{integrator}: the landing too fast for one step per frame is warned of before the run ({warnings!r})")
     sbt.check(sbt.field_value(mesh, "StableTimeStep") == 0.0,
               f"{integrator}: no stability limit is reported")
     sbt.check(linear_solve in plan, f"{integrator}: the plan lists '{linear_solve}' ({plan})")

@@ -174,6 +174,25 @@ CollisionGeometry barsGeometry(const CrossedBars& bars)
   return g;
 }
 
+/// The bars as one XPBD body (the rails' ends pinned), and XPBD defaults without a floor.
+PbdBody barsBody(const CrossedBars& bars)
+{
+  PbdBody body;
+  body.points = bars.mesh.points;
+  body.tets = bars.mesh.tets;
+  body.pinned = bars.pinned;
+  return body;
+}
+
+PbdSettings barsSettings(CollisionMode mode, double margin)
+{
+  PbdSettings settings;
+  settings.floorEnabled = false;
+  settings.collisions.mode = mode;
+  settings.collisions.margin = margin;
+  return settings;
+}
+
 } // namespace
 
 TEST(EdgeContacts, RidgesCrossingInASubstepAreCaughtAsOneEdgeContactWithTheNormalTheyCameFrom)
@@ -278,16 +297,9 @@ TEST(EdgeContacts, ABarDroppedAcrossTwoRidgesRestsOnThemUnderEveryMethodAndFalls
     return lowestGap(sim);
   };
   auto xpbd = [&](bool edges) {
-    PbdBody body;
-    body.points = bars.mesh.points;
-    body.tets = bars.mesh.tets;
-    body.pinned = bars.pinned;
-    PbdSettings settings;
-    settings.floorEnabled = false;
-    settings.collisions.mode = CollisionMode::ObstaclesAndBodies;
-    settings.collisions.margin = margin;
+    PbdSettings settings = barsSettings(CollisionMode::ObstaclesAndBodies, margin);
     settings.collisions.edgeContacts = edges;
-    PbdSimulation sim(body, settings);
+    PbdSimulation sim(barsBody(bars), settings);
     return lowestGap(sim);
   };
   const double explicitGap = massSpring(Integrator::EulerCromer, true);
@@ -313,15 +325,7 @@ TEST(EdgeContacts, OneAndTwoThreadsGiveBitIdenticalStates)
   const CrossedBars bars = crossedBars(0.01, 2);
   auto run = [&](std::size_t threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    PbdBody body;
-    body.points = bars.mesh.points;
-    body.tets = bars.mesh.tets;
-    body.pinned = bars.pinned;
-    PbdSettings settings;
-    settings.floorEnabled = false;
-    settings.collisions.mode = CollisionMode::ObstaclesBodiesAndSelf;
-    settings.collisions.margin = 0.002;
-    PbdSimulation sim(body, settings);
+    PbdSimulation sim(barsBody(bars), barsSettings(CollisionMode::ObstaclesBodiesAndSelf, 0.002));
     sim.advance(0.2);
     return sim.positions();
   };

@@ -467,3 +467,33 @@ TEST(MassSpringCollisions, ImplicitIntegratorsLandABodyOnABodyWithoutCrushingEit
     EXPECT_LE(worst, 3 * tets / 100) << integratorName(integrator);
   }
 }
+
+TEST(MassSpringCollisions, ALandingTooFastForTheImplicitStepIsWarnedOfBeforeTheRun)
+{
+  // A 0.1 m box of 2 cm cells whose bottom is 0.5 m above the floor lands at sqrt(2 g 0.5) =
+  // 3.13 m/s: at 1/20 s it moves 16 cm in its landing step against 2 cm elements, which crushes
+  // its bottom layer; the warning quotes the numbers and the step that avoids it. At 1/500 s
+  // (6 mm per step) there is nothing to say; with an initial velocity upward too little to lift
+  // it away from the floor, it still lands faster.
+  BodyDescription body = box(5, 0.02, Vec3(-0.05, -0.05, 0.5));
+  auto warning = [&](Integrator integrator, double step, const Vec3& velocity) {
+    SceneSettings scene;
+    scene.integrator = integrator;
+    scene.timeStep = step;
+    scene.floorEnabled = true;
+    MassSpringSimulation sim(body, scene);
+    DynamicState state = sim.state();
+    std::fill(state.velocities.begin(), state.velocities.end(), velocity);
+    sim.restoreState(state);
+    return sim.landingStepWarning(step);
+  };
+  const std::string fast = warning(Integrator::ImplicitEuler, 0.05, Vec3::Zero());
+  std::printf("  %s\n", fast.c_str());
+  EXPECT_NE(fast.find("3.13 m/s"), std::string::npos) << fast;
+  EXPECT_NE(fast.find("falling 0.5 m"), std::string::npos) << fast;
+  EXPECT_NE(fast.find("0.157 m"), std::string::npos) << fast; // 3.13 m/s x 0.05 s
+  EXPECT_NE(fast.find("TimeStep of at most"), std::string::npos) << fast;
+  EXPECT_TRUE(warning(Integrator::ImplicitEuler, 0.002, Vec3::Zero()).empty());
+  EXPECT_FALSE(warning(Integrator::ProjectiveDynamics, 0.05, Vec3(0.0, 0.0, 1.0)).empty());
+  EXPECT_TRUE(warning(Integrator::EulerCromer, 0.0, Vec3::Zero()).empty()) << "explicit steps are small";
+}

@@ -3,6 +3,7 @@
 #include "softbody/common/parallel.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <tuple>
 
@@ -146,6 +147,48 @@ ContactApproach fastestApproach(const ContactPlanes& planes, const std::vector<V
       return ContactApproach{ approach, planes.elementSize(i) };
     },
     worse);
+}
+
+LandingApproach floorLandingApproach(const ContactPlanes& planes, const FloorPlane& floor, const Vec3& gravity,
+  const std::vector<Vec3>& x0, const std::vector<Vec3>& v0, const std::vector<double>& inverseMass,
+  const std::vector<std::int32_t>& bodyOf, std::int32_t bodies, double h)
+{
+  const Vec3 n = floor.normal.normalized();
+  const double towardFloor = -gravity.dot(n); // gravity's pull toward the plane [m/s^2]
+  // Each body's lowest free point (the first smallest index on ties: no dependence on order).
+  std::vector<std::size_t> lowest(static_cast<std::size_t>(bodies), x0.size());
+  for (std::size_t i = 0; i < x0.size(); ++i)
+  {
+    std::size_t& l = lowest[static_cast<std::size_t>(bodyOf[i])];
+    if (inverseMass[i] > 0.0 && (l == x0.size() || (x0[i] - x0[l]).dot(n) < 0.0))
+    {
+      l = i;
+    }
+  }
+  LandingApproach worst;
+  for (std::size_t i : lowest)
+  {
+    if (i == x0.size())
+    {
+      continue; // every point held
+    }
+    const double height = (x0[i] - floor.origin).dot(n);
+    const double falling = -v0[i].dot(n); // > 0 toward the plane
+    // Energy: the speed at the plane whichever way it starts (up first, or slowed by a gravity
+    // pointing away from the floor).
+    const double speed2 = falling * falling + 2.0 * towardFloor * height;
+    if (!(height > 0.0) || (towardFloor <= 0.0 && falling <= 0.0) || !(speed2 > 0.0))
+    {
+      continue; // on the floor already, or never getting there
+    }
+    const double speed = std::sqrt(speed2);
+    const LandingApproach landing{ ContactApproach{ speed * h, planes.elementSize(i) }, speed, height };
+    if (landing.approach.ratio() > worst.approach.ratio())
+    {
+      worst = landing;
+    }
+  }
+  return worst;
 }
 
 std::vector<double> pointElementSizes(const Topology& topology, const std::vector<Vec3>& rest)

@@ -10,8 +10,10 @@
 #include "softbody/common/stepping.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <numeric>
+#include <sstream>
 
 
 namespace softbody
@@ -223,6 +225,31 @@ void MassSpringSimulation::stepOnce(double h)
     noteFastApproach(h);
   }
   takeStep(h);
+}
+
+std::string MassSpringSimulation::landingStepWarning(double step) const
+{
+  if (!Implicit || !Scene.floorActive() || !(step > 0.0) || !std::isfinite(step))
+  {
+    return "";
+  }
+  const ContactPlanes& planes = Implicit->contactPlanes();
+  std::int32_t bodies = 0;
+  const std::vector<std::int32_t> bodyOf = bodyOfPoints(Mesh, bodies);
+  const LandingApproach landing = floorLandingApproach(planes, Scene.floor, Scene.gravity, State.positions,
+    State.velocities, Masses.inverseMass, bodyOf, bodies, step);
+  if (landing.approach.ratio() <= 1.0)
+  {
+    return "";
+  }
+  std::ostringstream message;
+  message.precision(3);
+  message << integratorName(Scene.integrator) << " at a step of " << step << " s: the body will reach the floor at about "
+          << landing.speed << " m/s (falling " << landing.height << " m) and move " << landing.approach.approach
+          << " m in its landing step, against elements of " << landing.approach.size
+          << " m: that step crushes the elements where it lands (inverted tets). Take a TimeStep of at most "
+          << step / landing.approach.ratio() << " s, or an explicit integrator.";
+  return message.str();
 }
 
 void MassSpringSimulation::noteFastApproach(double h)

@@ -10,9 +10,6 @@
 
 namespace softbody
 {
-namespace
-{
-/// Connected body of every point (points in no tet get their own numbers after the bodies).
 std::vector<std::int32_t> bodyOfPoints(const TetMesh& mesh, std::int32_t& bodies)
 {
   std::vector<std::int64_t> offsets(mesh.tets.size() + 1);
@@ -43,7 +40,6 @@ std::vector<std::int32_t> bodyOfPoints(const TetMesh& mesh, std::int32_t& bodies
   }
   return bodyOf;
 }
-} // namespace
 
 /// What the detector collides of a tet body: its boundary triangles (outward), each point's
 /// connected body; no particles (radius 0). The colliding points are all points, so that a

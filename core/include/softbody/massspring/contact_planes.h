@@ -91,6 +91,22 @@ struct ContactApproach
 ContactApproach fastestApproach(const ContactPlanes& planes, const std::vector<Vec3>& x0,
   const std::vector<Vec3>& v0, const std::vector<double>& inverseMass, double h);
 
+/// Ahead of a run: the body that will land on `floor` fastest relative to its elements, and
+/// how far its landing speed carries it in a step of h. Each body (bodyOf, `bodies` of them)
+/// lands with its lowest free point, falling from x0 with v0 under `gravity`: at
+/// sqrt(v_n^2 + 2 g_n d) from height d. A landing step longer than the elements' size over that
+/// speed crushes the elements where the body lands. Bodies resting on the plane, held points and
+/// bodies that never reach it are left out.
+struct LandingApproach
+{
+  ContactApproach approach; ///< the landing step's approach [m] and the lowest point's element size
+  double speed = 0.0;       ///< at the floor [m/s]
+  double height = 0.0;      ///< fallen [m]
+};
+LandingApproach floorLandingApproach(const ContactPlanes& planes, const FloorPlane& floor, const Vec3& gravity,
+  const std::vector<Vec3>& x0, const std::vector<Vec3>& v0, const std::vector<double>& inverseMass,
+  const std::vector<std::int32_t>& bodyOf, std::int32_t bodies, double h);
+
 /// Per point, the mean rest length of its edges [m] (0 for a point without edges).
 std::vector<double> pointElementSizes(const Topology& topology, const std::vector<Vec3>& rest);
 

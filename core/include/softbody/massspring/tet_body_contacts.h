@@ -13,6 +13,10 @@
 namespace softbody
 {
 
+/// Connected body of every point (points in no tet get their own numbers after the bodies);
+/// `bodies` is set to how many there are.
+std::vector<std::int32_t> bodyOfPoints(const TetMesh& mesh, std::int32_t& bodies);
+
 /// The detector's geometry of a tet body: its boundary triangles (outward) and each point's
 /// connected body; every point collides, or only the surface vertices with self-collision.
 CollisionGeometry tetBodyGeometry(const TetMesh& mesh, const CollisionSettings& collisions);
