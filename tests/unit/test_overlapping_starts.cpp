@@ -14,7 +14,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <memory>
 
 using namespace softbody;
 
@@ -210,4 +213,78 @@ TEST(OverlappingStarts, MassSpringToriStartedInsideEachOtherStepWithBoundedConta
   EXPECT_LE(mostContacts, 1 + kMostContactsPerSource);
   EXPECT_LT(mostExamined, 200u);
   EXPECT_LT(fastest, 10.0); // free fall from under 1 m: 4.4 m/s
+}
+
+TEST(OverlappingStarts, ABodyStartedAcrossAnObstacleIsWarnedOfAndPulledAcrossItWithoutCrushing)
+{
+  // A TetGen torus (0.36 m tall) whose lowest point starts 0.25 m under a 20-degree ramp
+  // obstacle: the set-up warns with the points behind it and the depth. Placed 0.1 m above the
+  // ramp, or wholly under it (a body under a roof), nothing is said. The run that follows pulls
+  // the torus across the one-sided ramp (out where it is shallow, through where deep) and must
+  // stay finite without inverting more than a few percent of its tets.
+  const double pi = std::acos(-1.0), angle = 20.0 * pi / 180.0;
+  const Vec3 n(std::sin(angle), 0.0, std::cos(angle)), centre(0.0, 0.0, 0.6);
+  ObstacleSurface quad;
+  const Vec3 u = 1.5 * Vec3(std::cos(angle), 0.0, -std::sin(angle)), v(0.0, 1.5, 0.0);
+  quad.vertices = { centre - u - v, centre + u - v, centre + u + v, centre - u + v };
+  quad.triangles = { { 0, 1, 2 }, { 0, 2, 3 } };
+  auto placed = [&](double lowestAboveRamp) {
+    BodyDescription body;
+    body.mesh = test::tetTorus(1e-4);
+    double lowest = 1e300;
+    for (const Vec3& p : body.mesh.points)
+    {
+      lowest = std::min(lowest, (p - centre).dot(n));
+    }
+    for (Vec3& p : body.mesh.points)
+    {
+      p += (lowestAboveRamp - lowest) * n;
+    }
+    return body;
+  };
+  auto simulation = [&](const BodyDescription& body) {
+    SceneSettings scene;
+    scene.integrator = Integrator::ImplicitEuler;
+    scene.timeStep = 1.0 / 30.0;
+    scene.floorEnabled = true;
+    scene.collisions.staticFriction = scene.collisions.dynamicFriction = 0.3;
+    auto sim = std::make_unique<MassSpringSimulation>(body, scene);
+    sim->setObstacles({ quad }, 0.0);
+    return sim;
+  };
+  auto warnsOfObstacle = [](const MassSpringSimulation& sim) {
+    for (const std::string& w : sim.warnings())
+    {
+      if (w.find("start behind the surface of obstacle 0") != std::string::npos)
+      {
+        return w;
+      }
+    }
+    return std::string();
+  };
+  auto across = simulation(placed(-0.25));
+  const std::string warning = warnsOfObstacle(*across);
+  std::printf("  %s\n", warning.c_str());
+  EXPECT_NE(warning.find("the deepest 0.25 m"), std::string::npos) << warning;
+  EXPECT_TRUE(warnsOfObstacle(*simulation(placed(0.1))).empty());
+  EXPECT_TRUE(warnsOfObstacle(*simulation(placed(-1.0))).empty()) << "wholly under the ramp";
+
+  std::size_t worst = 0;
+  for (int frame = 1; frame <= 30; ++frame)
+  {
+    across->advance(frame / 30.0);
+    const std::vector<double> ratios = across->tetVolumeRatios();
+    worst = std::max(worst, static_cast<std::size_t>(std::count_if(ratios.begin(), ratios.end(), [](double r) { return r <= 0.0; })));
+  }
+  double lowest = 1e300, highest = -1e300;
+  for (const Vec3& p : across->positions())
+  {
+    EXPECT_TRUE(p.allFinite());
+    lowest = std::min(lowest, (p - centre).dot(n));
+    highest = std::max(highest, (p - centre).dot(n));
+  }
+  std::printf("  after 1 s: at most %zu of %zu tets inverted in a frame; points from %.3f to %.3f m off the ramp's plane\n",
+    worst, across->tetVolumeRatios().size(), lowest, highest);
+  // Measured 149 of 3,944 (3.8 %) under Implicit Euler at 1/30 s.
+  EXPECT_LE(worst, across->tetVolumeRatios().size() / 20);
 }

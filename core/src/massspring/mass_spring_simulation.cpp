@@ -1,6 +1,8 @@
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/volume_ratios.h"
 
+#include "softbody/collision/start_overlap.h"
+
 #include "softbody/common/errors.h"
 #include "softbody/massspring/mass_spring_plan.h"
 #include "softbody/massspring/mass_spring_setup.h"
@@ -359,6 +361,21 @@ void MassSpringSimulation::dropObstacleContactsHeldInTheSolve()
   });
 }
 
+void MassSpringSimulation::noteObstacleStart()
+{
+  // Once, where the run starts: bodies placed across an obstacle are said to be (set-up warning).
+  if (ObstacleStartChecked || State.time != 0.0 || Detector->obstacles().empty())
+  {
+    return;
+  }
+  ObstacleStartChecked = true;
+  const std::string warning = obstacleStartWarning(*Detector, State.positions);
+  if (!warning.empty())
+  {
+    Warnings.push_back(warning);
+  }
+}
+
 void MassSpringSimulation::setObstacles(std::vector<ObstacleSurface> obstacles, double endTime)
 {
   if (!Detector)
@@ -367,6 +384,7 @@ void MassSpringSimulation::setObstacles(std::vector<ObstacleSurface> obstacles, 
   }
   const bool hasObstacles = !obstacles.empty();
   Detector->setObstacles(std::move(obstacles), endTime);
+  noteObstacleStart();
   if (hasObstacles != HasObstacles)
   {
     // The collision stages appear (or go) with the obstacles; set before the first advance,

@@ -119,6 +119,21 @@ void PbdSimulation::replan()
   }
 }
 
+void PbdSimulation::noteObstacleStart()
+{
+  // Once, where the run starts: bodies placed across an obstacle are said to be (set-up warning).
+  if (ObstacleStartChecked || State.time != 0.0 || Detector->obstacles().empty())
+  {
+    return;
+  }
+  ObstacleStartChecked = true;
+  const std::string warning = obstacleStartWarning(*Detector, State.positions);
+  if (!warning.empty())
+  {
+    Warnings.push_back(warning);
+  }
+}
+
 void PbdSimulation::setObstacles(std::vector<ObstacleSurface> obstacles, double endTime)
 {
   if (!Detector)
@@ -128,6 +143,7 @@ void PbdSimulation::setObstacles(std::vector<ObstacleSurface> obstacles, double 
   const bool had = HasObstacles;
   HasObstacles = !obstacles.empty();
   Detector->setObstacles(std::move(obstacles), endTime);
+  noteObstacleStart();
   if (had != HasObstacles)
   {
     replan();

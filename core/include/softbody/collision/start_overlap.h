@@ -39,4 +39,31 @@ std::vector<StartOverlap> findStartOverlaps(const CollisionGeometry& geometry, c
 /// remedy (move the body by at least that depth).
 std::string startOverlapWarning(const std::vector<StartOverlap>& overlaps);
 
+/// Points of body `body` that start behind obstacle `obstacle`'s surface: behind the face
+/// nearest to them (its normal pointing away), where the face's interior is what is nearest.
+struct ObstacleStartOverlap
+{
+  std::int32_t body = -1;
+  std::int32_t obstacle = -1; ///< 0-based in setObstacles order
+  std::size_t behind = 0;     ///< colliding points behind the surface
+  std::size_t inFront = 0;    ///< colliding points in front of its faces
+  double depth = 0.0;         ///< the deepest behind [m]
+  bool closed = false;        ///< every edge of the obstacle has two faces
+};
+
+/// The bodies that start across an obstacle (some points behind its surface, some in front),
+/// or inside a closed one: a one-sided surface pushes the shallow points out and lets the deep
+/// ones through from behind, pulling the body across it. Sorted by (body, obstacle); bodies
+/// wholly behind an open surface (a body under a ramp) are not listed.
+std::vector<ObstacleStartOverlap> findObstacleStartOverlaps(const CollisionGeometry& geometry,
+  const std::vector<Vec3>& positions, const std::vector<ObstacleSurface>& obstacles);
+
+/// The warning for `overlaps` (empty when there are none): per body and obstacle, how many
+/// points start behind it and how deep, and the remedy (move the body to the free side by at
+/// least that depth, or reverse the obstacle's sense).
+std::string obstacleStartOverlapWarning(const std::vector<ObstacleStartOverlap>& overlaps);
+
+/// The two above for what `detector` collides and its obstacles, at `positions`.
+std::string obstacleStartWarning(const CollisionDetector& detector, const std::vector<Vec3>& positions);
+
 } // namespace softbody

@@ -149,6 +149,8 @@ private:
   mutable bool LinkStateStale = false; ///< Links.rest/broken changed since copied into State
   double Step = 0.0;
   std::vector<std::string> Warnings;
+  bool ObstacleStartChecked = false; ///< noteObstacleStart ran on the obstacles of t = 0
+  void noteObstacleStart();
   bool RecordEveryStep = false;
   PbdConvergence Convergence;
   mutable unsigned long long ResidualEvaluations = 0;
