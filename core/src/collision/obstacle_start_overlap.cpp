@@ -148,9 +148,20 @@ std::string obstacleStartOverlapWarning(const std::vector<ObstacleStartOverlap>&
   return message.str();
 }
 
-std::string obstacleStartWarning(const CollisionDetector& detector, const std::vector<Vec3>& positions)
+void noteObstacleStart(const CollisionDetector& detector, const std::vector<Vec3>& positions, double time,
+  bool& checked, std::vector<std::string>& warnings)
 {
-  return obstacleStartOverlapWarning(findObstacleStartOverlaps(detector.geometry(), positions, detector.obstacles()));
+  if (checked || time != 0.0 || detector.obstacles().empty())
+  {
+    return;
+  }
+  checked = true;
+  const std::string warning =
+    obstacleStartOverlapWarning(findObstacleStartOverlaps(detector.geometry(), positions, detector.obstacles()));
+  if (!warning.empty())
+  {
+    warnings.push_back(warning);
+  }
 }
 
 } // namespace softbody

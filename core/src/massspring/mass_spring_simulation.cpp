@@ -361,21 +361,6 @@ void MassSpringSimulation::dropObstacleContactsHeldInTheSolve()
   });
 }
 
-void MassSpringSimulation::noteObstacleStart()
-{
-  // Once, where the run starts: bodies placed across an obstacle are said to be (set-up warning).
-  if (ObstacleStartChecked || State.time != 0.0 || Detector->obstacles().empty())
-  {
-    return;
-  }
-  ObstacleStartChecked = true;
-  const std::string warning = obstacleStartWarning(*Detector, State.positions);
-  if (!warning.empty())
-  {
-    Warnings.push_back(warning);
-  }
-}
-
 void MassSpringSimulation::setObstacles(std::vector<ObstacleSurface> obstacles, double endTime)
 {
   if (!Detector)
@@ -384,7 +369,8 @@ void MassSpringSimulation::setObstacles(std::vector<ObstacleSurface> obstacles, 
   }
   const bool hasObstacles = !obstacles.empty();
   Detector->setObstacles(std::move(obstacles), endTime);
-  noteObstacleStart();
+  // Bodies placed across an obstacle are said to be, once, where the run starts.
+  noteObstacleStart(*Detector, State.positions, State.time, ObstacleStartChecked, Warnings);
   if (hasObstacles != HasObstacles)
   {
     // The collision stages appear (or go) with the obstacles; set before the first advance,

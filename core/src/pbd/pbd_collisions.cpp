@@ -119,21 +119,6 @@ void PbdSimulation::replan()
   }
 }
 
-void PbdSimulation::noteObstacleStart()
-{
-  // Once, where the run starts: bodies placed across an obstacle are said to be (set-up warning).
-  if (ObstacleStartChecked || State.time != 0.0 || Detector->obstacles().empty())
-  {
-    return;
-  }
-  ObstacleStartChecked = true;
-  const std::string warning = obstacleStartWarning(*Detector, State.positions);
-  if (!warning.empty())
-  {
-    Warnings.push_back(warning);
-  }
-}
-
 void PbdSimulation::setObstacles(std::vector<ObstacleSurface> obstacles, double endTime)
 {
   if (!Detector)
@@ -143,7 +128,8 @@ void PbdSimulation::setObstacles(std::vector<ObstacleSurface> obstacles, double 
   const bool had = HasObstacles;
   HasObstacles = !obstacles.empty();
   Detector->setObstacles(std::move(obstacles), endTime);
-  noteObstacleStart();
+  // Bodies placed across an obstacle are said to be, once, where the run starts.
+  noteObstacleStart(*Detector, State.positions, State.time, ObstacleStartChecked, Warnings);
   if (had != HasObstacles)
   {
     replan();

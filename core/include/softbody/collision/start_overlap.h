@@ -63,7 +63,10 @@ std::vector<ObstacleStartOverlap> findObstacleStartOverlaps(const CollisionGeome
 /// least that depth, or reverse the obstacle's sense).
 std::string obstacleStartOverlapWarning(const std::vector<ObstacleStartOverlap>& overlaps);
 
-/// The two above for what `detector` collides and its obstacles, at `positions`.
-std::string obstacleStartWarning(const CollisionDetector& detector, const std::vector<Vec3>& positions);
+/// Once per run, where it starts (time 0, obstacles set): the warning of the two above for what
+/// `detector` collides and its obstacles at `positions`, appended to `warnings`; `checked`
+/// remembers that it was done (moving obstacles are set again every frame).
+void noteObstacleStart(const CollisionDetector& detector, const std::vector<Vec3>& positions, double time,
+  bool& checked, std::vector<std::string>& warnings);
 
 } // namespace softbody

@@ -137,7 +137,6 @@ private:
   double OmegaMax = 0.0;
   std::vector<std::string> Warnings;
   bool ObstacleStartChecked = false; ///< noteObstacleStart ran on the obstacles of t = 0
-  void noteObstacleStart();
   mutable StepPlan Plan; // stages and their timers (timed from const force evaluations)
   mutable ForceScratch ForceWork;
   mutable TetElasticScratch TetForceWork;

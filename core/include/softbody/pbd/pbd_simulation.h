@@ -150,7 +150,6 @@ private:
   double Step = 0.0;
   std::vector<std::string> Warnings;
   bool ObstacleStartChecked = false; ///< noteObstacleStart ran on the obstacles of t = 0
-  void noteObstacleStart();
   bool RecordEveryStep = false;
   PbdConvergence Convergence;
   mutable unsigned long long ResidualEvaluations = 0;
