@@ -152,7 +152,7 @@ CollisionScene torusScene(const std::string& name, double overlap, bool smoke)
 /// Ten TetGen tori (data/torus.vtp's shape, 8,205 tets each, 2,349 points) dropped onto the floor, stacked
 /// 1 mm apart (`tori10-pile`: each lands on the one below) or side by side 0.6 m apart
 /// (`tori10-apart`: each lands on the floor alone); XPBD defaults, 0.05 s frames. The pile over
-/// the bodies apart is what resting on each other costs (issue 26: at most ~3x).
+/// the bodies apart is what resting on each other costs.
 CollisionScene tenToriScene(bool pile, bool smoke)
 {
   CollisionScene scene;

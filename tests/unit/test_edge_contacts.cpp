@@ -1,4 +1,4 @@
-// Edge against edge (issue 26, item 4): two bars crossed at right angles, each turned 45 degrees
+// Edge against edge: two bars crossed at right angles, each turned 45 degrees
 // about its length so that a ridge faces the other, meet ridge on ridge with every vertex of
 // each outside the other's cross-section: only an edge-edge contact can hold them. The
 // detector reports it (and the same set for every broad phase); the mass-spring response

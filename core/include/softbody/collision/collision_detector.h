@@ -143,8 +143,8 @@ private:
   std::size_t surfaceSlot(std::int32_t body) const;
   /// One tree per body over its surface triangles (BodyTriangles[slot]: the triangles, in tree item
   /// order): a point searches only the bodies it may touch, so without self collisions the
-  /// triangles around it on its own body are never visited (ten tori falling apart: every point
-  /// visited its own surface's neighbourhood in one shared tree).
+  /// triangles around it on its own body, most of what a shared tree would return, are never
+  /// visited.
   std::vector<std::vector<std::int32_t>> BodyTriangles;
   std::vector<TriangleBvh> BodySurfaceBvh;
   TriangleBvh ObstacleBvh;

@@ -33,8 +33,6 @@ public:
   void forEachOverlapping(const Aabb& box, const Visit& visit) const;
 
   std::size_t itemCount() const { return Items.size(); }
-  /// The box around every item (empty when there are none).
-  Aabb bounds() const { return Nodes.empty() ? Aabb{} : Nodes[0].box; }
 
 private:
   struct Node

@@ -66,7 +66,6 @@ public:
 
   bool empty() const { return Planes.empty(); }
   std::size_t pointCount() const { return PlaneOf.size(); }
-  std::size_t obstaclePlaneCount() const { return Planes.size() - (Floor ? 1 : 0); }
   bool has(std::size_t i) const { return PlaneOf[i] >= 0; }
   /// Point i's plane (has(i) must hold).
   const ContactPlane& of(std::size_t i) const { return Planes[static_cast<std::size_t>(PlaneOf[i])]; }
