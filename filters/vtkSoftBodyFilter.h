@@ -78,6 +78,7 @@ public:
   using enum vtkSoftBodyParameters::MethodType;
   using enum vtkSoftBodyParameters::XPBDMaterialType;
   using enum vtkSoftBodyParameters::SolverType;
+  using enum vtkSoftBodyParameters::TimeStepModeType;
   using enum vtkSoftBodyParameters::IntegratorType;
   using enum vtkSoftBodyParameters::MaterialModeType;
   using enum vtkSoftBodyParameters::MaterialModelType;
@@ -235,6 +236,16 @@ public:
    * Time step [s]; 0 (default) picks 0.9 times the estimated stable step.
    */
   vtkSoftBodyParameterMacro(TimeStep, double);
+  ///@}
+
+  ///@{
+  /**
+   * Mass-Spring: FIXED_STEP (TimeStep, or the automatic step) or ERROR_CONTROLLED: each step
+   * chosen from a local error estimate so that the positions stay within ErrorTolerance [m]
+   * of the exact motion over each simulated second (> 0); TimeStep > 0 then bounds the step.
+   */
+  vtkSoftBodyParameterMacro(TimeStepMode, int);
+  vtkSoftBodyParameterMacro(ErrorTolerance, double);
   ///@}
 
   ///@{

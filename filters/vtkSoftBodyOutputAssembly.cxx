@@ -62,18 +62,42 @@ double StepUsed(const softbody::Simulation& simulation, double frameInterval)
     static_cast<double>(softbody::equalStepCount(frameInterval, simulation.stepSize()));
 }
 
-/// The implicit integrators' solve report; null for explicit integrators and PBD.
-const softbody::ImplicitConvergence* ImplicitSolveReport(const vtkSoftBodyBuiltSimulation& built)
+/// The CPU mass-spring stepper; null for PBD and the GPU. It may sit inside the renumbering
+/// wrapper; what is read from it here (solve and step reports) needs no renumbering.
+const softbody::MassSpringSimulation* CpuMassSpring(const vtkSoftBodyBuiltSimulation& built)
 {
-  // Only the CPU mass-spring stepper has implicit integrators (the GPU falls back to it); it
-  // may sit inside the renumbering wrapper, and a residual history needs no renumbering.
   const softbody::Simulation* simulation = built.Simulation.get();
   if (const auto* reordered = dynamic_cast<const softbody::ReorderedSimulation*>(simulation))
   {
     simulation = &reordered->inner();
   }
-  const auto* massSpring = dynamic_cast<const softbody::MassSpringSimulation*>(simulation);
+  return dynamic_cast<const softbody::MassSpringSimulation*>(simulation);
+}
+
+/// The implicit integrators' solve report; null for explicit integrators and PBD.
+const softbody::ImplicitConvergence* ImplicitSolveReport(const vtkSoftBodyBuiltSimulation& built)
+{
+  // Only the CPU mass-spring stepper has implicit integrators (the GPU falls back to it).
+  const softbody::MassSpringSimulation* massSpring = CpuMassSpring(built);
   return massSpring ? massSpring->implicitConvergence() : nullptr;
+}
+
+/// Error-controlled steps: what the controller did to reach this frame.
+void AddStepControlFields(const softbody::StepControlReport& report, vtkFieldData* field)
+{
+  const auto count = [&](const char* name, unsigned long long value) {
+    auto array = vtkSmartPointer<vtkIdTypeArray>::New();
+    array->SetName(name);
+    array->InsertNextValue(static_cast<vtkIdType>(value));
+    field->AddArray(array);
+  };
+  count("AcceptedSteps", report.acceptedSteps);
+  count("RejectedSteps", report.rejectedSteps);
+  count("StepsOverTolerance", report.stepsOverTolerance);
+  count("EventSteps", report.eventSteps);
+  field->AddArray(MakeScalarArray("EstimatedError", { report.estimatedError }));
+  field->AddArray(MakeScalarArray("SmallestStep", { report.smallestStep }));
+  field->AddArray(MakeScalarArray("LargestStep", { report.largestStep }));
 }
 } // namespace
 
@@ -200,6 +224,13 @@ std::string vtkSoftBodyOutputAssembly::FillMesh(vtkUnstructuredGrid* input,
   if (implicit)
   {
     vtkSoftBodyImplicitReport::AddFields(*implicit, field);
+  }
+  if (p.Method == vtkSoftBodyFilter::MASS_SPRING && p.TimeStepMode == vtkSoftBodyFilter::ERROR_CONTROLLED)
+  {
+    if (const softbody::MassSpringSimulation* massSpring = CpuMassSpring(built))
+    {
+      AddStepControlFields(massSpring->stepControlReport(), field);
+    }
   }
 
   // StageSeconds is parallel to Plan: each planned stage's accumulated wall time.

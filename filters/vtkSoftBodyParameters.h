@@ -34,6 +34,11 @@ struct vtkSoftBodyParameters
     JACOBI = 1,
     PARALLEL_GAUSS_SEIDEL = 2
   };
+  enum TimeStepModeType
+  {
+    FIXED_STEP = 0,
+    ERROR_CONTROLLED = 1
+  };
   enum IntegratorType
   {
     EULER = 0,
@@ -42,7 +47,8 @@ struct vtkSoftBodyParameters
     EULER_CROMER = 3,
     IMPLICIT_EULER = 4,
     PROJECTIVE_DYNAMICS = 5,
-    STATIC = 6
+    STATIC = 6,
+    BDF2 = 7
   };
   enum MaterialModelType
   {
@@ -89,6 +95,8 @@ struct vtkSoftBodyParameters
   int Device = DEVICE_CPU;
   int Integrator = EULER_CROMER;
   double TimeStep = 0.0;
+  int TimeStepMode = FIXED_STEP;
+  double ErrorTolerance = 1.0e-4;
   double ImplicitTolerance = 1.0e-3;
   int ImplicitMaxIterations = 100;
   double EndTime = 3.0;

@@ -73,6 +73,12 @@ void ConvertMassSpring(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSe
   softbody::SceneSettings& scene = settings.Scene;
   scene.integrator = vtkSoftBodySettings::Integrator(p.Integrator);
   scene.timeStep = p.TimeStep;
+  if (Choice("TimeStepMode", p.TimeStepMode, 2, "0 (Fixed), 1 (Error-controlled)") ==
+    vtkSoftBodyFilter::ERROR_CONTROLLED)
+  {
+    scene.stepControl = softbody::StepControl::ErrorControlled;
+    scene.errorTolerance = p.ErrorTolerance;
+  }
   if (softbody::isImplicit(scene.integrator))
   {
     scene.implicit.tolerance = p.ImplicitTolerance;
@@ -122,6 +128,14 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
       ") runs under Method Mass-Spring (with any of its integrators); PBD "
       "and XPBD have their own constraints (XPBDMaterial). Set Method to Mass-Spring, or "
       "MaterialModel to Spring Network.");
+  }
+  if (Choice("TimeStepMode", p.TimeStepMode, 2, "0 (Fixed), 1 (Error-controlled)") !=
+    vtkSoftBodyFilter::FIXED_STEP)
+  {
+    // Their accuracy is set by iterations and substeps, not by a step's truncation error.
+    throw softbody::InvalidInputError("TimeStepMode " + std::to_string(p.TimeStepMode) +
+      " (Error-controlled) runs under Method Mass-Spring; PBD and XPBD take fixed substeps "
+      "(Substeps, SolverIterations). Set TimeStepMode to 0 (Fixed).");
   }
   s.prediction = p.Integrator == vtkSoftBodyFilter::VERLET ? softbody::PbdPrediction::Verlet
                                                            : softbody::PbdPrediction::SymplecticEuler;
@@ -173,7 +187,8 @@ static_assert(vtkSoftBodyFilter::EULER == int(softbody::Integrator::Euler) &&
     vtkSoftBodyFilter::EULER_CROMER == int(softbody::Integrator::EulerCromer) &&
     vtkSoftBodyFilter::IMPLICIT_EULER == int(softbody::Integrator::ImplicitEuler) &&
     vtkSoftBodyFilter::PROJECTIVE_DYNAMICS == int(softbody::Integrator::ProjectiveDynamics) &&
-    vtkSoftBodyFilter::STATIC == int(softbody::Integrator::Static),
+    vtkSoftBodyFilter::STATIC == int(softbody::Integrator::Static) &&
+    vtkSoftBodyFilter::BDF2 == int(softbody::Integrator::Bdf2),
   "the Integrator property's values must be core's Integrator values");
 
 softbody::Integrator vtkSoftBodySettings::Integrator(int integrator)

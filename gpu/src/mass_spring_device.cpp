@@ -240,6 +240,7 @@ void MassSpringDevice::integrate(double h, double kick)
     case Integrator::ImplicitEuler:
     case Integrator::ProjectiveDynamics:
     case Integrator::Static:
+    case Integrator::Bdf2:
       // Refused in tryCreateGpuMassSpring (the filter then runs them on the CPU).
       throw std::logic_error("the GPU stepper has no implicit integrator");
   }

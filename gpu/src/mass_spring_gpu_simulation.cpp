@@ -199,6 +199,11 @@ std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(
       integratorName(scene.integrator) + " is implicit.";
     return nullptr;
   }
+  if (scene.stepControl == StepControl::ErrorControlled)
+  {
+    whyNot = "the GPU backend runs fixed steps only, and TimeStepMode is Error-controlled.";
+    return nullptr;
+  }
   if (isContinuum(body.material.model))
   {
     whyNot = std::string("the GPU backend has only the Spring Network's forces, not MaterialModel ") +

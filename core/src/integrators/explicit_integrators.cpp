@@ -80,6 +80,7 @@ void integrateStep(Integrator integrator, double h, const AccelerationEvaluator&
     case Integrator::ImplicitEuler:
     case Integrator::ProjectiveDynamics:
     case Integrator::Static:
+    case Integrator::Bdf2:
       throw std::logic_error("integrateStep: implicit integrators have their own steppers");
   }
   state.time += h;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <complex>
 #include <stdexcept>
 
 namespace softbody
@@ -59,6 +60,21 @@ double midpointRadius(double h, double omega, double c)
     1.0 - h2 * w2, h - h2 * c, -h * w2 + h2 * c * w2, 1.0 - h * c + h2 * (c * c - w2));
 }
 
+double bdf2Radius(double h, double omega, double c)
+{
+  // BDF2 with a constant step on z' = J z: (3/2 - h lambda) zeta^2 - 2 zeta + 1/2 = 0 for each
+  // eigenvalue lambda of J (the roots of s^2 + c s + w^2); the radius is the largest |zeta|.
+  const std::complex<double> disc = std::sqrt(std::complex<double>(c * c - 4.0 * omega * omega));
+  double radius = 0.0;
+  for (const std::complex<double> lambda : { 0.5 * (-c + disc), 0.5 * (-c - disc) })
+  {
+    const std::complex<double> a = 1.5 - h * lambda;
+    const std::complex<double> root = std::sqrt(4.0 - 2.0 * a);
+    radius = std::max({ radius, std::abs((2.0 + root) / (2.0 * a)), std::abs((2.0 - root) / (2.0 * a)) });
+  }
+  return radius;
+}
+
 double staticRadius(double, double, double)
 {
   // Every step lands on the equilibrium: nothing of the state before it survives.
@@ -67,7 +83,7 @@ double staticRadius(double, double, double)
 
 using I = Integrator;
 // clang-format off
-constexpr std::array<IntegratorFacts, 7> kTable{ {
+constexpr std::array<IntegratorFacts, 8> kTable{ {
   // integrator            name                 order implicit symplectic evaluations
   //   staggered velocity, GPU, undamped reference, plan's element pass and linear solve, stability
   { I::Euler,              "Euler",               1, false, false, 1,
@@ -87,6 +103,9 @@ constexpr std::array<IntegratorFacts, 7> kTable{ {
   // Newton on the elastic energy alone; order 0: the answer does not depend on the step.
   { I::Static,             "Static",              0, true,  false, 1,
     false, false, I::Static,             "gradient + Hessian",  "block-Jacobi PCG",     staticRadius },
+  // Implicit Euler's Newton solve of 2h/3 from the extrapolated state.
+  { I::Bdf2,               "BDF2",                2, true,  false, 1,
+    false, false, I::Bdf2,               "gradient + Hessian",  "block-Jacobi PCG",     bdf2Radius },
 } };
 // clang-format on
 

@@ -1,5 +1,6 @@
 #include "softbody/massspring/implicit_integrator.h"
 
+#include "softbody/massspring/bdf2.h"
 #include "softbody/massspring/implicit_euler.h"
 #include "softbody/massspring/projective_dynamics.h"
 #include "softbody/massspring/static_solve.h"
@@ -20,6 +21,9 @@ std::unique_ptr<ImplicitIntegrator> makeImplicitIntegrator(const SceneSettings& 
   {
     case Integrator::ImplicitEuler:
       integrator = std::make_unique<ImplicitEulerStepper>(topology, elements, masses, scene);
+      break;
+    case Integrator::Bdf2:
+      integrator = std::make_unique<Bdf2Stepper>(topology, elements, masses, scene);
       break;
     case Integrator::ProjectiveDynamics:
       integrator = std::make_unique<ProjectiveDynamicsStepper>(

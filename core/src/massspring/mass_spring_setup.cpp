@@ -4,6 +4,7 @@
 #include "softbody/massspring/tet_body_contacts.h"
 #include "softbody/common/stepping.h"
 
+#include "softbody/common/error_control.h"
 #include "softbody/common/errors.h"
 #include "softbody/common/validation.h"
 #include "softbody/stability/element_frequency.h"
@@ -33,12 +34,38 @@ void validateScene(const SceneSettings& scene)
   {
     check::nonNegative("ImplicitTolerance", scene.implicit.tolerance, "", "Projective Dynamics: "
       "a fixed iteration count");
-    if (scene.integrator == Integrator::ImplicitEuler && !(scene.implicit.tolerance > 0.0))
+    const bool newton = scene.integrator == Integrator::ImplicitEuler || scene.integrator == Integrator::Bdf2;
+    if (newton && !(scene.implicit.tolerance > 0.0))
     {
-      throw InvalidInputError("ImplicitTolerance must be > 0 for Implicit Euler (Newton stops on "
-        "it), got " + check::quote(scene.implicit.tolerance) + ".");
+      throw InvalidInputError(std::string("ImplicitTolerance must be > 0 for ") +
+        integratorName(scene.integrator) + " (Newton stops on it), got " +
+        check::quote(scene.implicit.tolerance) + ".");
     }
     check::atLeast("ImplicitMaxIterations", scene.implicit.maxIterations, 1);
+  }
+  if (scene.stepControl == StepControl::ErrorControlled && factsOf(scene.integrator).order < 1)
+  {
+    throw InvalidInputError(std::string("Error-controlled steps need an integrator whose answer depends on "
+      "its step; ") + integratorName(scene.integrator) + " solves for the equilibrium at each frame time and "
+      "has no time error: choose TimeStepMode Fixed, or a dynamic integrator.");
+  }
+}
+
+/// Refuses an error tolerance the body's coordinates cannot resolve (error_control.h).
+void validateErrorTolerance(const SceneSettings& scene, const TetMesh& mesh)
+{
+  if (scene.stepControl != StepControl::ErrorControlled)
+  {
+    return;
+  }
+  double extent = 0.0;
+  for (const Vec3& p : mesh.points)
+  {
+    extent = std::max(extent, p.cwiseAbs().maxCoeff());
+  }
+  if (const std::string problem = errorToleranceProblem(scene.errorTolerance, extent); !problem.empty())
+  {
+    throw InvalidInputError(problem);
   }
 }
 
@@ -108,6 +135,7 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
     throw InvalidInputError("The pinned-point flags do not match the number of points.");
   }
   s.mesh = prepareTetMesh(std::move(body.mesh), s.scene.invertedTets, s.warnings);
+  validateErrorTolerance(s.scene, s.mesh);
   s.topology = buildTopology(s.mesh.points.size(), s.mesh.tets);
   s.model = body.material.model;
   s.constants = computeElementConstants(s.topology, s.mesh.points, body.material, s.warnings);

@@ -3,7 +3,9 @@
 
 #include "softbody/collision/start_overlap.h"
 
+#include "softbody/common/error_control.h"
 #include "softbody/common/errors.h"
+#include "softbody/massspring/bdf2.h"
 #include "softbody/massspring/mass_spring_plan.h"
 #include "softbody/massspring/mass_spring_setup.h"
 #include "softbody/massspring/tet_body_contacts.h"
@@ -292,6 +294,10 @@ void MassSpringSimulation::takeStep(double h)
   {
     integrateExplicit(h);
   }
+  if (Scene.integrator == Integrator::Bdf2)
+  {
+    SolvedVelocities = State.velocities;
+  }
   // The held components where their conditions put them at the step's end (the integrators
   // moved them by their velocity; the implicit solve left fully held points where they were).
   Conditions.holdPoints(State.time, State.positions, State.velocities);
@@ -307,6 +313,48 @@ void MassSpringSimulation::takeStep(double h)
   {
     resolveContacts(h);
   }
+  if (Scene.integrator == Integrator::Bdf2)
+  {
+    restartCorrectedHistories();
+  }
+}
+
+void MassSpringSimulation::markPointsInContact(std::vector<char>& mask) const
+{
+  if (Implicit && !Implicit->contactPlanes().empty())
+  {
+    // On its plane, to within a small part of its elements (the solve holds it there).
+    const ContactPlanes& planes = Implicit->contactPlanes();
+    parallelFor(mask.size(), 4096, [&](std::size_t i) {
+      if (planes.has(i) && planes.depth(i, State.positions[i]) <= kContactBand * planes.elementSize(i))
+      {
+        mask[i] = 1;
+      }
+    });
+  }
+  for (const Contact& c : Contacts) // the response after the step (explicit integrators, bodies)
+  {
+    mask[static_cast<std::size_t>(c.point)] = 1;
+    for (std::int32_t other : c.other)
+    {
+      if (c.kind != ContactKind::Obstacle && other >= 0)
+      {
+        mask[static_cast<std::size_t>(other)] = 1;
+      }
+    }
+  }
+}
+
+void MassSpringSimulation::restartCorrectedHistories()
+{
+  // The corrections after the solve (held components, strain limit, contact response) change
+  // velocities the history does not know of.
+  parallelFor(State.velocities.size(), 4096, [&](std::size_t i) {
+    if (State.velocities[i] != SolvedVelocities[i])
+    {
+      restartBdf2History(i, State);
+    }
+  });
 }
 
 void MassSpringSimulation::findObstaclePlanes(double h)
@@ -398,6 +446,21 @@ void MassSpringSimulation::checkDivergence() const
 
 AdvanceStatus MassSpringSimulation::advance(double endTime, const ProgressCallback& progress)
 {
+  if (Scene.stepControl == StepControl::ErrorControlled)
+  {
+    // An explicit integrator stays within its stable step; the user's TimeStep bounds any.
+    ErrorControl control{ Scene.errorTolerance, factsOf(Scene.integrator).order, Step };
+    if (Scene.integrator == Integrator::Bdf2)
+    {
+      control.halvesErrorFactor = bdf2HalvesErrorFactor;
+    }
+    if (StableStep > 0.0)
+    {
+      control.maxStep = std::min(control.maxStep, Scene.stabilitySafety * StableStep);
+    }
+    return advanceWithErrorControl(State, control, endTime, progress, [&](double h) { stepOnce(h); },
+      [&] { checkDivergence(); }, [&](std::vector<char>& mask) { markPointsInContact(mask); }, StepReport);
+  }
   const auto stepOnceAt = [&](double h, bool) { stepOnce(h); };
   return advanceInEqualSteps(State, Step, endTime, progress, oneStepAtATime(stepOnceAt),
     [&] { checkDivergence(); });

@@ -340,6 +340,9 @@ const DynamicState& ReorderedSimulation::state() const
     Out.time = in.time;
     Out.stepCount = in.stepCount;
     Out.previousStep = in.previousStep;
+    Out.previousPositions = toInputOrder(in.previousPositions, Map.vertexOrder);
+    Out.previousVelocities = toInputOrder(in.previousVelocities, Map.vertexOrder);
+    Out.proposedStep = in.proposedStep;
     Out.linkRestLengths = in.linkRestLengths;
     Out.linkBroken = in.linkBroken;
     Out.impactSpeeds = toInputOrder(in.impactSpeeds, Map.vertexOrder);
@@ -359,6 +362,8 @@ void ReorderedSimulation::restoreState(const DynamicState& snapshot)
   DynamicState stored = snapshot;
   stored.positions = toStorageOrder(snapshot.positions, Map.vertexOrder);
   stored.velocities = toStorageOrder(snapshot.velocities, Map.vertexOrder);
+  stored.previousPositions = toStorageOrder(snapshot.previousPositions, Map.vertexOrder);
+  stored.previousVelocities = toStorageOrder(snapshot.previousVelocities, Map.vertexOrder);
   stored.impactSpeeds = toStorageOrder(snapshot.impactSpeeds, Map.vertexOrder);
   stored.impactNormals = toStorageOrder(snapshot.impactNormals, Map.vertexOrder);
   Inner->restoreState(stored);

@@ -24,6 +24,12 @@ struct DynamicState
   /// both sides, (h_prev + h) / 2, so its first step is the half kick that starts leapfrog
   /// exactly: free fall is reproduced to rounding.
   double previousStep = 0.0;
+  /// History of multistep integrators (BDF2): the positions and velocities before the last
+  /// step, previousStep before these. Empty until the first step, and for the others.
+  std::vector<Vec3> previousPositions;
+  std::vector<Vec3> previousVelocities;
+  /// Error-controlled steps: the step the controller proposes next [s] (0: none yet).
+  double proposedStep = 0.0;
   /// History of models whose links change as they move (PBD plastic and breakable links):
   /// the current rest length and broken flag of each link. Empty for models without any.
   std::vector<double> linkRestLengths;

@@ -20,7 +20,12 @@ enum class Integrator
   ProjectiveDynamics, ///< backward Euler by local/global iterations (Liu et al. 2013)
   /// The static equilibrium at each step's end time, without inertia (static_solve.h): Newton
   /// on the elastic energy and the loads. Velocities are zero.
-  Static
+  Static,
+  /// Second-order backward differentiation (bdf2.h): each step is a backward-Euler solve of
+  /// 2h/3 from the state extrapolated from the last two, through the same Newton solve.
+  /// Second order, L-stable, far less dissipative than Implicit Euler. (Last: the values
+  /// before it are the filter's and the state files'.)
+  Bdf2
 };
 
 struct IntegratorFacts

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "softbody/collision/collision_detector.h"
+#include "softbody/common/error_control.h"
 #include "softbody/common/simulation.h"
 #include "softbody/massspring/contact_response.h"
 #include "softbody/integrators/explicit_integrators.h"
@@ -92,6 +93,10 @@ public:
   const ContactResponseStats& lastContactResponse() const { return ContactStats; }
   const CollisionDetector* collisionDetector() const { return Detector.get(); }
 
+  /// Error-controlled steps (scene.stepControl): what the controller did in the last
+  /// advance(); all zero with fixed steps.
+  const StepControlReport& stepControlReport() const { return StepReport; }
+
   /// Convergence of the implicit integrators' solves; null for the explicit ones.
   const ImplicitConvergence* implicitConvergence() const;
   /// The Projective Dynamics stepper (factorization facts); null for other integrators.
@@ -119,6 +124,13 @@ private:
   void noteFastApproach(double h);
   /// Implicit integrators: drops the obstacle contacts their solve already held.
   void dropObstacleContactsHeldInTheSolve();
+  /// BDF2: restarts the history of the points the corrections after the solve moved on.
+  void restartCorrectedHistories();
+  /// Error control: marks the points in contact after the last step (on a contact plane of the
+  /// implicit solve, or in a contact the response after the step found).
+  void markPointsInContact(std::vector<char>& mask) const;
+  /// A point this fraction of its elements' size from its contact plane is in contact.
+  static constexpr double kContactBand = 0.05;
 
   SceneSettings Scene;
   TetMesh Mesh;
@@ -152,6 +164,8 @@ private:
   std::vector<Vec3> Predicted;
   ContactSet PlaneContacts;
   ContactResponseStats ContactStats;
+  StepControlReport StepReport;
+  std::vector<Vec3> SolvedVelocities; ///< BDF2: the velocities the solve left
 };
 
 } // namespace softbody
