@@ -12,8 +12,8 @@
 #   scripts/bench.sh --no-plots ...     CSVs and tables only
 #
 # A complete run (no scene named, not --quick, default output folder) then writes its tables
-# into docs/accuracy.md (scripts/update_docs_tables.py) and copies its plots to docs/bench/, and
-# runs bench_tet_elasticity, bench_collision_scenes and bench_conditions, whose tables go into
+# into docs/accuracy.md (scripts/update_docs_tables.py) with bench_error_control's, copies its
+# plots to docs/bench/, and runs bench_tet_elasticity, bench_collision_scenes and bench_conditions, whose tables go into
 # docs/performance.md.
 #
 # SOFTBODY_BENCH_OUT overrides output/bench; SOFTBODY_DATA_DIR the public meshes (../shared/data).
@@ -66,6 +66,9 @@ for arg in ${args[@]+"${args[@]}"}; do
   [[ "${arg}" != --* ]] && scenes_given=1
 done
 if [[ ${status} -eq 0 && ${quick} -eq 0 && ${scenes_given} -eq 0 && -z "${SOFTBODY_BENCH_OUT:-}" ]]; then
+  # Error-controlled steps against the best fixed step in hindsight, into docs/accuracy.md.
+  "${SOFTBODY_BUILD_DIR}/bin/bench_error_control" --csv "${out}/error_control.csv" \
+    | tee "${out}/bench_error_control.log" || status=$?
   "${python:-python3}" "${SOFTBODY_ROOT}/scripts/update_docs_tables.py" "${out}" \
     "${SOFTBODY_ROOT}/docs/accuracy.md" || status=$?
   # The finite-element materials' cost per tet, into docs/performance.md.

@@ -295,8 +295,7 @@ int main(int argc, char** argv)
   std::ofstream csv(options.csv);
   csv << "scene,points,threads,collisions,frame_ms,detect_ms,contact_solve_ms,edge_contacts,hash\n";
   // The same as a table for docs/performance.md (scripts/update_docs_tables.py), beside the CSV.
-  std::string md = options.csv;
-  md = (md.size() > 4 && md.compare(md.size() - 4, 4, ".csv") == 0 ? md.substr(0, md.size() - 4) : md) + ".md";
+  const std::string md = bench::tableBeside(options.csv);
   std::ofstream table(md);
   table << "| scene | points | tets | threads | collisions | ms per frame | detection ms | contact solve ms | "
            "x Collisions Off | edge contacts | same state at 1 and " << maxThreads << " threads |\n"

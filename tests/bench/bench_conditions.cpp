@@ -166,8 +166,7 @@ int main(int argc, char** argv)
         << row.msPerStep << ',' << row.ratio << ',' << row.newtonPerStep << '\n';
   }
   // The same as a table for docs/performance.md (scripts/update_docs_tables.py), beside the CSV.
-  std::string md = options.csv;
-  md = (md.size() > 4 && md.compare(md.size() - 4, 4, ".csv") == 0 ? md.substr(0, md.size() - 4) : md) + ".md";
+  const std::string md = bench::tableBeside(options.csv);
   std::ofstream table(md);
   table << "| mesh | tets | integrator | conditions | ms per step | x pinned array | Newton iterations per step |\n"
            "|---|---|---|---|---|---|---|\n";

@@ -27,6 +27,14 @@ struct Options
   int repeat = 1; ///< --repeat: timed runs per case; the minimum and the median are printed
 };
 
+/// The Markdown table's path beside a CSV: name.csv -> name.md (the docs pages' tables,
+/// scripts/update_docs_tables.py).
+inline std::string tableBeside(const std::string& csv)
+{
+  const bool isCsv = csv.size() > 4 && csv.compare(csv.size() - 4, 4, ".csv") == 0;
+  return (isCsv ? csv.substr(0, csv.size() - 4) : csv) + ".md";
+}
+
 /// Parses --smoke, --data DIR, --csv PATH, --mesh SPEC, --repeat N; prints the usage and exits on anything else.
 inline Options parseOptions(int argc, char** argv, const std::string& program, const std::string& defaultCsv)
 {

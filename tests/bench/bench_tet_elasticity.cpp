@@ -197,8 +197,7 @@ int main(int argc, char** argv)
       << wall / simulated << ',' << double(c.iterationsTotal) / double(c.steps) << '\n';
 
   // The same as a table for docs/performance.md (scripts/update_docs_tables.py), beside the CSV.
-  std::string md = options.csv;
-  md = (md.size() > 4 && md.compare(md.size() - 4, 4, ".csv") == 0 ? md.substr(0, md.size() - 4) : md) + ".md";
+  const std::string md = bench::tableBeside(options.csv);
   std::ofstream table(md);
   table << "| mesh | tets | material model | forces [ns/tet] | x network | Newton pass [ns/tet] | x network |\n"
            "|---|---|---|---|---|---|---|\n";

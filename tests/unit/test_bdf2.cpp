@@ -5,6 +5,7 @@
 #include "softbody/massspring/bdf2.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
+#include "spring_oscillator.h"
 
 #include <gtest/gtest.h>
 
@@ -17,38 +18,13 @@ using namespace softbody;
 namespace
 {
 
-/// Point 1 on an undamped spring to pinned point 0 along x, without gravity: x(t) = L + A cos(w t).
-struct LinearOscillator
+/// The shared spring (spring_oscillator.h) with the error of a run of each implicit integrator.
+struct LinearOscillator : test::SpringOscillator
 {
-  double k = 400.0, m = 0.25, l0 = 0.1, amplitude = 0.02;
-  Topology topology;
-  ElementConstants constants;
-  PointMasses masses;
-  SceneSettings scene;
-
-  LinearOscillator()
-  {
-    topology.vertexCount = 2;
-    topology.edges = { Edge{ 0, 1 } };
-    topology.vertexEdges = buildCsr(2, { 0, 1 }, { 0, 0 });
-    topology.vertexTetCorners = buildCsr(2, {}, {});
-    constants.restLength = { l0 };
-    constants.springStiffness = { k };
-    constants.springDamping = { 0.0 };
-    masses.mass = { 1.0, m };
-    masses.inverseMass = { 0.0, 1.0 / m };
-    masses.totalMass = 1.0 + m;
-    scene.gravity = Vec3::Zero();
-    scene.implicit.tolerance = 1e-12;
-    scene.implicit.maxIterations = 50;
-  }
-  double omega() const { return std::sqrt(k / m); }
-  double exact(double t) const { return l0 + amplitude * std::cos(omega() * t); }
-
   /// |x(T) - exact| after steps of h with the integrator (Bdf2 or ImplicitEuler).
   double error(Integrator integrator, double h, double endTime) const
   {
-    const BodyElements elements{ MaterialModel::SpringNetwork, &constants, nullptr };
+    const BodyElements elements = this->elements();
     std::unique_ptr<ImplicitIntegrator> stepper;
     if (integrator == Integrator::Bdf2)
     {

@@ -8,6 +8,7 @@
 #include "softbody/massspring/bdf2.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
+#include "spring_oscillator.h"
 
 #include <gtest/gtest.h>
 
@@ -19,33 +20,7 @@ using namespace softbody;
 namespace
 {
 
-/// Point 1 of mass m on an undamped spring to pinned point 0, no gravity: x(t) = L + A cos(w t).
-struct Spring
-{
-  double k = 400.0, m = 0.25, l0 = 0.1, amplitude = 0.02;
-  Topology topology;
-  ElementConstants constants;
-  PointMasses masses;
-  SceneSettings scene;
-
-  Spring()
-  {
-    topology.vertexCount = 2;
-    topology.edges = { Edge{ 0, 1 } };
-    topology.vertexEdges = buildCsr(2, { 0, 1 }, { 0, 0 });
-    topology.vertexTetCorners = buildCsr(2, {}, {});
-    constants.restLength = { l0 };
-    constants.springStiffness = { k };
-    constants.springDamping = { 0.0 };
-    masses.mass = { 1.0, m };
-    masses.inverseMass = { 0.0, 1.0 / m };
-    masses.totalMass = 1.0 + m;
-    scene.gravity = Vec3::Zero();
-    scene.implicit.tolerance = 1e-12;
-    scene.implicit.maxIterations = 50;
-  }
-  double exact(double t) const { return l0 + amplitude * std::cos(std::sqrt(k / m) * t); }
-};
+using Spring = test::SpringOscillator;
 
 /// A bar of 2 x 2 x 10 cells hanging from its pinned top face, released from rest: it stretches
 /// and oscillates about its static elongation.

@@ -233,7 +233,9 @@ void MassSpringSimulation::stepOnce(double h)
 
 std::string MassSpringSimulation::landingStepWarning(double step) const
 {
-  if (!Implicit || !Scene.floorActive() || !(step > 0.0) || !std::isfinite(step))
+  // Error-controlled steps shorten themselves where the landing needs it.
+  if (!Implicit || !Scene.floorActive() || !(step > 0.0) || !std::isfinite(step) ||
+    Scene.stepControl == StepControl::ErrorControlled)
   {
     return "";
   }

@@ -77,7 +77,8 @@ public:
   const std::vector<std::string>& warnings() const override { return Warnings; }
   /// Said before a run (implicit integrators with the floor): the warning that steps of `step`
   /// land the body on the floor faster than its elements can take in one step, with the step
-  /// that avoids it, from the current positions and velocities; empty when they do not.
+  /// that avoids it, from the current positions and velocities; empty when they do not, and
+  /// with error-controlled steps (which shorten themselves).
   std::string landingStepWarning(double step) const;
   const StepPlan& stepPlan() const override { return Plan; }
   std::string longRunWarning(double duration) const override;
