@@ -69,6 +69,8 @@ if [[ ${status} -eq 0 && ${quick} -eq 0 && ${scenes_given} -eq 0 && -z "${SOFTBO
   # Error-controlled steps against the best fixed step in hindsight, into docs/accuracy.md.
   "${SOFTBODY_BUILD_DIR}/bin/bench_error_control" --csv "${out}/error_control.csv" \
     | tee "${out}/bench_error_control.log" || status=$?
+  pvpython "${SOFTBODY_ROOT}/tests/bench/plot_error_control.py" "${out}/error_control.csv" \
+    "${SOFTBODY_ROOT}/docs/bench/error_control.png" || status=$?
   "${python:-python3}" "${SOFTBODY_ROOT}/scripts/update_docs_tables.py" "${out}" \
     "${SOFTBODY_ROOT}/docs/accuracy.md" || status=$?
   # The finite-element materials' cost per tet, into docs/performance.md.

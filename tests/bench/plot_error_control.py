@@ -1,0 +1,46 @@
+"""Draws bench_error_control's CSV: the achieved error against the tolerance (with the line
+error = tolerance) and the cost against the best fixed step against the tolerance, one line per
+scene and integrator.
+
+Run with pvpython (matplotlib ships with Debian's ParaView packages):
+    pvpython tests/bench/plot_error_control.py error_control.csv error_control.png
+"""
+import csv
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")  # no display needed
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main(csv_path, png_path):
+    series = defaultdict(lambda: ([], [], []))  # (scene, integrator) -> tolerance, error, ratio
+    with open(csv_path, newline="") as f:
+        for row in csv.DictReader(f):
+            tolerance, error, ratio = series[(row["scene"], row["integrator"])]
+            tolerance.append(float(row["tolerance"]))
+            error.append(float(row["achieved_error"]))
+            ratio.append(float(row["cost_ratio"]))
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.8))
+    every = sorted({t for ts, _, _ in series.values() for t in ts})
+    left.loglog(every, every, color="black", linestyle="--", label="error = tolerance")
+    for (scene, integrator), (tolerance, error, ratio) in sorted(series.items()):
+        label = f"{integrator}, {scene}"
+        left.loglog(tolerance, error, marker="o", label=label)
+        right.semilogx(tolerance, ratio, marker="o", label=label)
+    left.set(title="achieved error against the tolerance", xlabel="ErrorTolerance [m per s]",
+             ylabel="largest error over the frames [m]")
+    right.axhline(1.0, color="black", linestyle="--")
+    right.set(title="cost against the best fixed step in hindsight", xlabel="ErrorTolerance [m per s]",
+              ylabel="wall time / best fixed step's")
+    for ax in (left, right):
+        ax.grid(True, which="both", alpha=0.3)
+    right.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(png_path, dpi=110)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1], sys.argv[2])
