@@ -206,6 +206,8 @@ def run(make_body, grid, end_time, frame_interval=None, reference=None, output_d
     for index, values in enumerate(variants, 1):
         status, setup, run_s, frames = _run_variant(make_body, values, end_time, frame_interval)
         error = _error(frames, expected) if frames is not None else math.nan
+        if status == "ok" and not math.isfinite(error):
+            status = "ok, but its points are not the reference's (another count): no error measured"
         label = ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in values.items())
         rows.append(dict(values, label=label, status=status, setup_s=setup, run_s=run_s, error=error))
         if progress:

@@ -98,8 +98,16 @@ void chooseStep(MassSpringSetup& s)
     {
       std::ostringstream message;
       message << "TimeStep " << s.step << " s is above the estimated stable step " << s.stableStep
-              << " s of " << integratorName(scene.integrator)
-              << "; the simulation may blow up (set TimeStep to 0 for automatic).";
+              << " s of " << integratorName(scene.integrator);
+      if (scene.stepControl == StepControl::ErrorControlled)
+      {
+        message << "; error-controlled steps stay within " << scene.stabilitySafety * s.stableStep
+                << " s instead.";
+      }
+      else
+      {
+        message << "; the simulation may blow up (set TimeStep to 0 for automatic).";
+      }
       s.warnings.push_back(message.str());
     }
   }
@@ -136,6 +144,14 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
   }
   s.mesh = prepareTetMesh(std::move(body.mesh), s.scene.invertedTets, s.warnings);
   validateErrorTolerance(s.scene, s.mesh);
+  if (s.scene.stepControl == StepControl::ErrorControlled && s.scene.floorActive())
+  {
+    // Measured on a TetGen sphere (27,792 tets) resting on the floor: 10,037 steps in its first
+    // 0.1 s and 88 tets inverted, where fixed 1/240 s BDF2 steps invert none.
+    s.warnings.push_back("Error-controlled steps with the floor: where the body touches it the "
+      "steps get very short (thousands per frame) and can invert tets; for scenes with contact use "
+      "TimeStepMode Fixed (BDF2 at a TimeStep that resolves the landing).");
+  }
   s.topology = buildTopology(s.mesh.points.size(), s.mesh.tets);
   s.model = body.material.model;
   s.constants = computeElementConstants(s.topology, s.mesh.points, body.material, s.warnings);
