@@ -26,7 +26,7 @@ fi
 build="${SOFTBODY_ROOT}/build-fuzz"
 
 # Only what the fuzz build needs (no ParaView): clang with its libFuzzer runtime, core's libraries.
-SOFTBODY_PACKAGES=(cmake ninja-build clang libclang-rt-14-dev libtbb-dev libeigen3-dev libtet1.5-dev)
+SOFTBODY_PACKAGES=(cmake ninja-build clang libclang-rt-14-dev libtbb-dev libeigen3-dev libtet1.5-dev libsuitesparse-dev libopenblas0-serial)
 cd "${SOFTBODY_ROOT}"
 softbody_check_packages
 

@@ -3,29 +3,41 @@
 // For each mesh, a body dropped onto a floor just below it with the default material (rubber,
 // E = 1e5 Pa, damping time 2 ms), at all threads:
 //   - Euler-Cromer at its automatic (stable) step: ms per step, and ms per simulated second;
-//   - Implicit Euler at 1/60 s: ms per step, Newton iterations per step, CG iterations per
-//     Newton iteration, unconverged steps;
-//   - Projective Dynamics at 1/60 s: the Cholesky factorization's time and memory (nonzeros of
-//     the factor; 12 bytes each with its row index), ms per step, iterations per step,
-//     unconverged steps.
+//   - Implicit Euler at 1/60 s, once with each CG preconditioner (block Jacobi; the coordinate
+//     preconditioner, coordinate_preconditioner.h): ms per step, Newton iterations per step, CG
+//     iterations per Newton iteration, unconverged steps, and for the coordinate one its
+//     factorizations' time (set-up, not counted in ms per step) and the factor's memory;
+//   - Projective Dynamics at 1/60 s, once with each Cholesky backend (CHOLMOD supernodal,
+//     Eigen simplicial): the factorization's time and memory, ms per step, iterations per
+//     step, unconverged steps;
+//   - Implicit Euler on steel (E = 200 GPa) with each CG preconditioner, over a quarter of the
+//     frames.
 // The last column is the implicit speed-up per simulated second over Euler-Cromer, measured in
 // the same run. The explicit run is timed over a few steps only (its step cost does not change
 // with time); the implicit runs over the first `frames` frames, which include the landing.
-// Results also go to CSV.
+// Beside each implicit row, the bound of its linear solves at the memory bandwidth measured in
+// the same run: block-Jacobi CG streams the assembled Hessian's 3x3 blocks and ~11 vectors per
+// iteration; a Cholesky solve (Projective Dynamics per iteration, the coordinate preconditioner
+// per CG iteration) streams its factor twice (forward and back) on one thread. "x bound" is the
+// measured solve time over that bound. Results also go to CSV and to a Markdown table beside it.
 //
 // Usage: bench_implicit [--smoke] [--data <shared data dir>] [--csv <file>] [--mesh <spec>]
 #include "bench_meshes.h"
 #include "bench_options.h"
+#include "memory_bandwidth.h"
 
 #include "softbody/massspring/mass_spring_reordered.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <tbb/global_control.h>
+#include <vector>
 
 using namespace softbody;
 
@@ -87,14 +99,73 @@ struct Implicit
   double factorSeconds = 0.0, factorMegabytes = 0.0;
   double forcesShare = 0.0, solveShare = 0.0; ///< of the wall time: element passes, linear solves
   std::uint64_t hash = 0;
+  std::size_t warnings = 0;
+  double factorBytes = 0.0;
+  double cgPerStep = 0.0, choleskySolvesPerStep = 0.0;
 };
 
-Implicit timeImplicit(const TetMesh& mesh, Integrator integrator, int frames)
+/// Bytes one block-Jacobi CG iteration streams: the Hessian's blocks (9 doubles and a column
+/// index each; one per point and two per tet edge) and ~11 vector passes plus the inverted
+/// diagonal per point.
+double cgIterationBytes(const TetMesh& mesh)
+{
+  std::vector<std::uint64_t> edges;
+  edges.reserve(6 * mesh.tets.size());
+  for (const auto& tet : mesh.tets)
+  {
+    for (int a = 0; a < 4; ++a)
+    {
+      for (int b = a + 1; b < 4; ++b)
+      {
+        const std::uint64_t i = std::min(tet[a], tet[b]), j = std::max(tet[a], tet[b]);
+        edges.push_back(i << 32 | j);
+      }
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  const double uniqueEdges = double(std::unique(edges.begin(), edges.end()) - edges.begin());
+  const double points = double(mesh.points.size());
+  return (points + 2.0 * uniqueEdges) * (9 * 8 + 4) + points * (11 * 24 + 72);
+}
+
+/// An implicit integrator with the linear-solver settings of one row.
+struct Variant
+{
+  Integrator integrator;
+  const char* solver;
+  LinearPreconditioner preconditioner = LinearPreconditioner::BlockJacobi;
+  CholeskyBackend cholesky = CholeskyBackend::CholmodSupernodal;
+  bool steel = false; ///< E = 200 GPa, nu = 0.3, 7850 kg/m^3 instead of the default rubber
+};
+
+const Variant kVariants[] = {
+  { Integrator::ImplicitEuler, "block Jacobi CG" },
+  { Integrator::ImplicitEuler, "coordinate CG", LinearPreconditioner::Coordinate },
+  { Integrator::ProjectiveDynamics, "CHOLMOD" },
+  { Integrator::ProjectiveDynamics, "Eigen simplicial", LinearPreconditioner::BlockJacobi,
+    CholeskyBackend::EigenSimplicial },
+  // Stiff materials are where block Jacobi's iteration count explodes.
+  { Integrator::ImplicitEuler, "steel, block Jacobi CG", LinearPreconditioner::BlockJacobi,
+    CholeskyBackend::CholmodSupernodal, true },
+  { Integrator::ImplicitEuler, "steel, coordinate CG", LinearPreconditioner::Coordinate,
+    CholeskyBackend::CholmodSupernodal, true },
+};
+
+Implicit timeImplicit(const TetMesh& mesh, const Variant& variant, int frames)
 {
   BodyDescription body;
   body.mesh = mesh;
-  const std::unique_ptr<Simulation> built =
-    makeMassSpringSimulation(body, droppedOnTheFloor(mesh, integrator));
+  if (variant.steel)
+  {
+    body.material.physical.youngsModulus = 2e11;
+    body.material.physical.poissonRatio = 0.3;
+    body.material.physical.density = 7850.0;
+    frames = std::max(1, frames / 4); // block Jacobi takes ~10x longer per step here
+  }
+  SceneSettings scene = droppedOnTheFloor(mesh, variant.integrator);
+  scene.implicit.preconditioner = variant.preconditioner;
+  scene.implicit.cholesky = variant.cholesky;
+  const std::unique_ptr<Simulation> built = makeMassSpringSimulation(body, scene);
   Simulation& sim = *built;
   const Simulation* inner = &sim;
   if (const auto* reordered = dynamic_cast<const ReorderedSimulation*>(inner))
@@ -117,9 +188,23 @@ Implicit timeImplicit(const TetMesh& mesh, Integrator integrator, int frames)
   if (const ProjectiveDynamicsStepper* pd = massSpring.projectiveDynamics())
   {
     r.factorSeconds = pd->factorSeconds();
-    r.factorMegabytes = 12.0 * double(pd->factorNonZeros()) / 1e6;
+    r.factorMegabytes = double(pd->factorBytes()) / 1e6;
+    r.factorBytes = double(pd->factorBytes());
+    r.choleskySolvesPerStep = r.iterationsPerStep;
   }
-  // The one factorization is set-up, not a step: reported on its own.
+  if (const CoordinatePreconditioner* coordinate = massSpring.coordinatePreconditioner())
+  {
+    r.factorSeconds = coordinate->factorSeconds();
+    r.factorMegabytes = double(coordinate->factorBytes()) / 1e6;
+    r.factorBytes = double(coordinate->factorBytes());
+  }
+  r.cgPerStep = double(c.linearIterationsTotal) / double(c.steps);
+  if (massSpring.coordinatePreconditioner())
+  {
+    r.choleskySolvesPerStep = r.cgPerStep; // one application per CG iteration (and one before)
+  }
+  r.warnings = sim.warnings().size();
+  // Factorizations are set-up, not steps: reported on their own.
   r.secondsPerStep = (seconds - r.factorSeconds) / double(c.steps);
   r.hash = bench::hashPositions(sim.positions());
   for (const StageTiming& t : sim.stageTimings())
@@ -233,12 +318,27 @@ int main(int argc, char** argv)
     bench::parseOptions(argc, argv, "bench_implicit", "bench_implicit.csv");
   const int frames = options.smoke ? 2 : 12;
   const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
+  const std::size_t probe = options.smoke ? (1u << 22) : (1u << 25);
+  const double bandwidth = bench::measureTriadBandwidth(probe, 5);
+  double serialBandwidth = 0.0;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    serialBandwidth = bench::measureTriadBandwidth(probe, 5);
+  }
+  std::printf("triad bandwidth %.1f GB/s at all threads, %.1f GB/s on one thread\n", bandwidth * 1e-9,
+    serialBandwidth * 1e-9);
 
   std::ofstream csv(options.csv);
+  // The same rows as a table for docs/performance.md (scripts/update_docs_tables.py).
+  std::ofstream table(bench::tableBeside(options.csv));
+  table << "| mesh | tets | integrator (linear solver) | ms/step | s per simulated s | iterations/step | "
+           "CG/Newton | unconverged | factor s | factor MB | forces / solve | solve ms/step | x bound | speed-up |\n"
+           "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n";
+  char line[512];
   csv << "mesh,vertices,tets,integrator,step_s,ms_per_step,s_per_simulated_s,iterations_per_step,"
-         "cg_per_newton,unconverged_steps,steps,factor_s,factor_MB,speedup_over_explicit\n";
+         "cg_per_newton,unconverged_steps,steps,factor_s,factor_MB,speedup_over_explicit,solver\n";
   std::printf("%d frames of 1/60 s, dropped onto a floor; explicit = Euler-Cromer at its stable step\n\n", frames);
-  std::printf("%-22s %7s %-20s %9s %9s %10s %6s %6s %5s %8s %8s %8s %11s\n", "mesh", "tets", "integrator",
+  std::printf("%-22s %7s %-37s %9s %9s %10s %6s %6s %5s %8s %8s %8s %11s\n", "mesh", "tets", "integrator",
     "step [s]", "ms/step", "s / sim s", "it/st", "cg/it", "unconv", "factor s", "factor MB", "speedup",
     "forces/solve");
   for (const auto& named : meshes)
@@ -254,26 +354,47 @@ int main(int argc, char** argv)
       continue;
     }
     const double explicitPerSecond = ec.secondsPerStep / ec.step;
-    std::printf("%-22s %7zu %-20s %9.2e %9.3f %10.1f\n", named.name.c_str(), named.mesh.tets.size(),
+    std::printf("%-22s %7zu %-37s %9.2e %9.3f %10.1f\n", named.name.c_str(), named.mesh.tets.size(),
       "Euler-Cromer", ec.step, 1e3 * ec.secondsPerStep, explicitPerSecond);
     csv << named.name << ',' << named.mesh.points.size() << ',' << named.mesh.tets.size()
         << ",Euler-Cromer," << ec.step << ',' << 1e3 * ec.secondsPerStep << ',' << explicitPerSecond
-        << ",,,,,,,1\n";
-    for (Integrator integrator : { Integrator::ImplicitEuler, Integrator::ProjectiveDynamics })
+        << ",,,,,,,1,\n";
+    std::snprintf(line, sizeof line, "| %s | %zu | Euler-Cromer (stable step %.2e s) | %.2f | %.0f | | | | | | | | | 1 |\n",
+      named.name.c_str(), named.mesh.tets.size(), ec.step, 1e3 * ec.secondsPerStep, explicitPerSecond);
+    table << line;
+    for (const Variant& variant : kVariants)
     {
-      const Implicit r = timeImplicit(named.mesh, integrator, frames);
+      const Implicit r = timeImplicit(named.mesh, variant, frames);
       const double perSecond = r.secondsPerStep / kFrame;
-      std::printf("%-22s %7s %-20s %9.2e %9.1f %10.2f %6.1f %6.1f %5llu %8.3f %8.1f %8.0f %5.0f%%/%3.0f%%\n", "", "",
-        integratorName(integrator), kFrame, 1e3 * r.secondsPerStep, perSecond, r.iterationsPerStep,
+      // The explicit run is rubber's: no speed-up is claimed for steel against it.
+      const double speedup = variant.steel ? std::nan("") : explicitPerSecond / perSecond;
+      const std::string label = std::string(integratorName(variant.integrator)) + " (" + variant.solver + ")";
+      std::printf("%-22s %7s %-37s %9.2e %9.1f %10.2f %6.1f %6.1f %5llu %8.3f %8.1f %8.0f %5.0f%%/%3.0f%%%s\n", "", "",
+        label.c_str(), kFrame, 1e3 * r.secondsPerStep, perSecond, r.iterationsPerStep,
         r.linearPerIteration, r.unconverged, r.factorSeconds, r.factorMegabytes,
-        explicitPerSecond / perSecond, 100 * r.forcesShare, 100 * r.solveShare);
+        speedup, 100 * r.forcesShare, 100 * r.solveShare,
+        r.warnings ? "  (warned: fell back)" : "");
       csv << named.name << ',' << named.mesh.points.size() << ',' << named.mesh.tets.size() << ','
-          << integratorName(integrator) << ',' << kFrame << ',' << 1e3 * r.secondsPerStep << ','
+          << integratorName(variant.integrator) << ',' << kFrame << ',' << 1e3 * r.secondsPerStep << ','
           << perSecond << ',' << r.iterationsPerStep << ',' << r.linearPerIteration << ','
           << r.unconverged << ',' << r.steps << ',' << r.factorSeconds << ',' << r.factorMegabytes
-          << ',' << explicitPerSecond / perSecond << '\n';
+          << ',' << (variant.steel ? std::string() : std::to_string(speedup)) << ',' << variant.solver << '\n';
+      const double solveSeconds = r.secondsPerStep * r.solveShare;
+      const double bound = r.cgPerStep * cgIterationBytes(named.mesh) / bandwidth +
+        r.choleskySolvesPerStep * 2.0 * r.factorBytes / serialBandwidth;
+      std::printf("%-22s %7s %-37s solve %.0f ms/step, bound %.0f ms/step: %.1fx the bound\n", "", "", "",
+        1e3 * solveSeconds, 1e3 * bound, solveSeconds / bound);
+      std::snprintf(line, sizeof line, "| | | %s | %.0f | %.1f | %.1f | %.1f | %llu | %.2f | %.1f | %.0f %% / %.0f %% | %.0f | %.1f | %s |\n",
+        label.c_str(), 1e3 * r.secondsPerStep, perSecond, r.iterationsPerStep, r.linearPerIteration,
+        r.unconverged, r.factorSeconds, r.factorMegabytes, 100 * r.forcesShare, 100 * r.solveShare,
+        1e3 * solveSeconds, solveSeconds / bound,
+        variant.steel ? "" : std::to_string(static_cast<int>(std::lround(speedup))).c_str());
+      table << line;
     }
   }
+  std::snprintf(line, sizeof line, "\nBounds at the triad bandwidth measured in the same run: %.1f GB/s at "
+    "all threads (CG), %.1f GB/s on one thread (Cholesky solves).\n", bandwidth * 1e-9, serialBandwidth * 1e-9);
+  table << line;
   if (!options.smoke)
   {
     accuracyTable(csv);

@@ -21,6 +21,7 @@ struct SpringOscillator
   ElementConstants constants;
   PointMasses masses;
   SceneSettings scene;
+  std::vector<Vec3> restPositions;
 
   SpringOscillator()
   {
@@ -34,6 +35,7 @@ struct SpringOscillator
     masses.mass = { 1.0, m };
     masses.inverseMass = { 0.0, 1.0 / m };
     masses.totalMass = 1.0 + m;
+    restPositions = { Vec3::Zero(), Vec3(l0, 0, 0) };
     scene.gravity = Vec3::Zero();
     scene.implicit.tolerance = 1e-12;
     scene.implicit.maxIterations = 50;

@@ -28,11 +28,11 @@ struct LinearOscillator : test::SpringOscillator
     std::unique_ptr<ImplicitIntegrator> stepper;
     if (integrator == Integrator::Bdf2)
     {
-      stepper = std::make_unique<Bdf2Stepper>(topology, elements, masses, scene);
+      stepper = std::make_unique<Bdf2Stepper>(topology, elements, masses, restPositions, scene);
     }
     else
     {
-      stepper = std::make_unique<ImplicitEulerStepper>(topology, elements, masses, scene);
+      stepper = std::make_unique<ImplicitEulerStepper>(topology, elements, masses, restPositions, scene);
     }
     DynamicState state;
     state.positions = { Vec3::Zero(), Vec3(l0 + amplitude, 0, 0) };
@@ -64,7 +64,7 @@ TEST(Bdf2, SecondStepEqualsTheClosedFormBdf2Update)
 {
   const LinearOscillator o;
   const BodyElements elements{ MaterialModel::SpringNetwork, &o.constants, nullptr };
-  Bdf2Stepper stepper(o.topology, elements, o.masses, o.scene);
+  Bdf2Stepper stepper(o.topology, elements, o.masses, o.restPositions, o.scene);
   const double h = 0.01;
   DynamicState state;
   state.positions = { Vec3::Zero(), Vec3(o.l0 + o.amplitude, 0, 0) };

@@ -67,11 +67,11 @@ TEST(ErrorControl, SpringMeetsTheToleranceAgainstItsExactMotion)
       std::unique_ptr<ImplicitIntegrator> stepper;
       if (integrator == Integrator::Bdf2)
       {
-        stepper = std::make_unique<Bdf2Stepper>(o.topology, elements, o.masses, o.scene);
+        stepper = std::make_unique<Bdf2Stepper>(o.topology, elements, o.masses, o.restPositions, o.scene);
       }
       else
       {
-        stepper = std::make_unique<ImplicitEulerStepper>(o.topology, elements, o.masses, o.scene);
+        stepper = std::make_unique<ImplicitEulerStepper>(o.topology, elements, o.masses, o.restPositions, o.scene);
       }
       DynamicState state;
       state.positions = { Vec3::Zero(), Vec3(o.l0 + o.amplitude, 0, 0) };

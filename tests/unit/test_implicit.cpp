@@ -96,7 +96,7 @@ TEST(ImplicitIntegrators, LinearSpringStepEqualsTheClosedFormBackwardEulerUpdate
       int iterations = 0;
       if (integrator == Integrator::ImplicitEuler)
       {
-        ImplicitEulerStepper stepper(topology, BodyElements{ MaterialModel::SpringNetwork, &constants, nullptr }, masses, scene);
+        ImplicitEulerStepper stepper(topology, BodyElements{ MaterialModel::SpringNetwork, &constants, nullptr }, masses, rest, scene);
         stepper.step(h, state, plan);
         iterations = stepper.convergence().iterations;
       }

@@ -8,8 +8,8 @@ namespace softbody
 {
 
 Bdf2Stepper::Bdf2Stepper(const Topology& topology, const BodyElements& elements,
-  const PointMasses& masses, const SceneSettings& scene)
-  : BackwardEuler(topology, elements, masses, scene)
+  const PointMasses& masses, const std::vector<Vec3>& restPositions, const SceneSettings& scene)
+  : BackwardEuler(topology, elements, masses, restPositions, scene)
 {
 }
 

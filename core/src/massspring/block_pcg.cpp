@@ -44,19 +44,37 @@ void invertDiagonal(const BlockSparseMatrix& A, const MotionFilter& filter,
 
 PcgResult solveBlockPcg(const BlockSparseMatrix& A, const MotionFilter& filter,
   const std::vector<Eigen::Vector3d>& b, double relativeTolerance, int maxIterations,
-  std::vector<Eigen::Vector3d>& x, PcgScratch& s)
+  std::vector<Eigen::Vector3d>& x, PcgScratch& s, PcgPreconditioner* preconditioner)
 {
   const std::size_t n = A.rowCount();
-  invertDiagonal(A, filter, s.inverseDiagonal);
+  if (!preconditioner)
+  {
+    invertDiagonal(A, filter, s.inverseDiagonal);
+  }
+  // z = S P^-1 r (block Jacobi fused into the loop that updates r).
+  const auto precondition = [&] {
+    if (preconditioner)
+    {
+      preconditioner->apply(s.residual, s.preconditioned);
+      parallelFor(n, kGrain, [&](std::size_t i) { s.preconditioned[i] = filter.apply(i, s.preconditioned[i]); });
+    }
+  };
+  const auto blockJacobi = [&](std::size_t i) {
+    if (!preconditioner)
+    {
+      s.preconditioned[i] = filter.apply(i, s.inverseDiagonal[i] * s.residual[i]);
+    }
+  };
   x.assign(n, Eigen::Vector3d::Zero());
   s.residual.resize(n);
   s.preconditioned.resize(n);
   s.direction.resize(n);
   parallelFor(n, kGrain, [&](std::size_t i) {
     s.residual[i] = filter.apply(i, b[i]);
-    s.preconditioned[i] = filter.apply(i, s.inverseDiagonal[i] * s.residual[i]);
-    s.direction[i] = s.preconditioned[i];
+    blockJacobi(i);
   });
+  precondition();
+  parallelFor(n, kGrain, [&](std::size_t i) { s.direction[i] = s.preconditioned[i]; });
 
   PcgResult result;
   const double bNorm = std::sqrt(dot(s.residual, s.residual));
@@ -80,10 +98,15 @@ PcgResult solveBlockPcg(const BlockSparseMatrix& A, const MotionFilter& filter,
     parallelFor(n, kGrain, [&](std::size_t i) {
       x[i] += alpha * s.direction[i];
       s.residual[i] -= alpha * filter.apply(i, s.product[i]);
-      s.preconditioned[i] = filter.apply(i, s.inverseDiagonal[i] * s.residual[i]);
+      blockJacobi(i);
     });
     ++result.iterations;
     rNorm = std::sqrt(dot(s.residual, s.residual));
+    if (rNorm <= goal)
+    {
+      break; // no preconditioner application for a direction that will not be taken
+    }
+    precondition();
     const double rzNext = dot(s.residual, s.preconditioned);
     const double beta = rzNext / rz;
     rz = rzNext;

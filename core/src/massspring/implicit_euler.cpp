@@ -4,6 +4,7 @@
 #include "softbody/common/stepping.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace softbody
 {
@@ -15,16 +16,42 @@ constexpr double kMaxForcing = 0.1; // CG's relative accuracy in the first Newto
 } // namespace
 
 ImplicitEulerStepper::ImplicitEulerStepper(const Topology& topology,
-  const BodyElements& elements, const PointMasses& masses, const SceneSettings& scene,
-  bool equilibrium)
+  const BodyElements& elements, const PointMasses& masses,
+  const std::vector<Vec3>& restPositions, const SceneSettings& scene, bool equilibrium)
   : Potential(makeIncrementalPotential(topology, elements, masses, scene.gravity))
   , Solver(*Potential, scene, ImplicitStepSolver::LineSearch::Armijo)
   , Hessian(topology)
+  , Equilibrium(equilibrium)
 {
+  if (scene.implicit.preconditioner == LinearPreconditioner::Coordinate)
+  {
+    Coordinate = std::make_unique<CoordinatePreconditioner>(
+      topology, elements, masses, restPositions, scene.implicit.cholesky);
+  }
   if (equilibrium)
   {
     Potential->makeStatic();
   }
+}
+
+PcgPreconditioner* ImplicitEulerStepper::preconditioner(double h, const MotionFilter& filter)
+{
+  if (!Coordinate)
+  {
+    return nullptr;
+  }
+  // The static solve's matrix has neither inertia nor damping (h = infinity).
+  const std::string failure = Equilibrium
+    ? Coordinate->prepare(std::numeric_limits<double>::infinity(), false, filter)
+    : Coordinate->prepare(h, true, filter);
+  if (failure.empty())
+  {
+    return Coordinate.get();
+  }
+  PreconditionerWarning = std::string("the coordinate preconditioner could not be factored (") +
+    failure + "); the implicit solve uses block Jacobi instead";
+  Coordinate.reset();
+  return nullptr;
 }
 
 void ImplicitEulerStepper::step(double h, DynamicState& state, StepPlan& plan)
@@ -42,7 +69,8 @@ void ImplicitEulerStepper::step(double h, DynamicState& state, StepPlan& plan)
     const double forcing = std::min(kMaxForcing, std::max(residual, 0.5 * goal / residual));
     Rhs.resize(at.gradient.size());
     parallelFor(at.gradient.size(), 4096, [&](std::size_t i) { Rhs[i] = -at.gradient[i]; });
-    return solveBlockPcg(Hessian, at.filter, Rhs, forcing, kMaxLinearIterations, direction, LinearWork)
+    return solveBlockPcg(Hessian, at.filter, Rhs, forcing, kMaxLinearIterations, direction,
+      LinearWork, preconditioner(h, at.filter))
       .iterations;
   };
   Solver.step(h, state, plan, newtonDirection, Convergence);

@@ -20,17 +20,17 @@ std::unique_ptr<ImplicitIntegrator> makeImplicitIntegrator(const SceneSettings& 
   switch (scene.integrator)
   {
     case Integrator::ImplicitEuler:
-      integrator = std::make_unique<ImplicitEulerStepper>(topology, elements, masses, scene);
+      integrator = std::make_unique<ImplicitEulerStepper>(topology, elements, masses, restPositions, scene);
       break;
     case Integrator::Bdf2:
-      integrator = std::make_unique<Bdf2Stepper>(topology, elements, masses, scene);
+      integrator = std::make_unique<Bdf2Stepper>(topology, elements, masses, restPositions, scene);
       break;
     case Integrator::ProjectiveDynamics:
       integrator = std::make_unique<ProjectiveDynamicsStepper>(
         topology, elements, masses, restPositions, scene);
       break;
     case Integrator::Static:
-      integrator = std::make_unique<StaticStepper>(topology, elements, masses, scene, positions);
+      integrator = std::make_unique<StaticStepper>(topology, elements, masses, restPositions, scene, positions);
       break;
     default:
       throw std::logic_error(std::string("makeImplicitIntegrator: ") +

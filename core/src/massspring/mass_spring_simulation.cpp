@@ -211,6 +211,11 @@ void MassSpringSimulation::integrateImplicit(double h)
     ScopedStageTimer timer(total);
     Implicit->step(h, State, Plan);
   }
+  if (std::string warning = Implicit->solverWarning();
+      !warning.empty() && std::find(Warnings.begin(), Warnings.end(), warning) == Warnings.end())
+  {
+    Warnings.push_back(std::move(warning));
+  }
   Plan.seconds(Stage::Integrate) +=
     total - (Plan.seconds(Stage::Forces) + Plan.seconds(Stage::LinearSolve) - before);
   State.time += h;

@@ -16,106 +16,27 @@ namespace softbody
 ProjectiveDynamicsStepper::ProjectiveDynamicsStepper(const Topology& topology,
   const BodyElements& elements, const PointMasses& masses,
   const std::vector<Vec3>& restPositions, const SceneSettings& scene)
-  : Topo(topology)
-  , Constants(*elements.network)
-  , Tets(isContinuum(elements.model) ? elements.tets : nullptr)
-  , InverseMass(masses.inverseMass)
+  : Matrix(topology, elements, masses, restPositions)
+  , Cholesky(scene.implicit.cholesky)
   , Potential(makeIncrementalPotential(topology, elements, masses, scene.gravity))
   , Solver(*Potential, scene, ImplicitStepSolver::LineSearch::Armijo)
   , History(scene.implicit.projectiveHistory)
 {
-  FreeIndex.assign(topology.vertexCount, -1);
-  for (std::size_t i = 0; i < topology.vertexCount; ++i)
-  {
-    if (InverseMass[i] > 0.0)
-    {
-      FreeIndex[i] = static_cast<std::int32_t>(FreeVertex.size());
-      FreeVertex.push_back(static_cast<std::int32_t>(i));
-    }
-  }
-  if (Constants.hasVolumeTerm)
-  {
-    TetWeight.resize(topology.tets.size());
-    for (std::size_t t = 0; t < topology.tets.size(); ++t)
-    {
-      const Tet& tet = topology.tets[t];
-      const auto g = tetVolumeGradients(restPositions[tet[0]], restPositions[tet[1]],
-        restPositions[tet[2]], restPositions[tet[3]]);
-      TetWeight[t] = g[0].squaredNorm() + g[1].squaredNorm() + g[2].squaredNorm() +
-        g[3].squaredNorm();
-    }
-  }
 }
 
 void ProjectiveDynamicsStepper::factor(double h)
 {
   const auto start = std::chrono::steady_clock::now();
-  using Triplet = Eigen::Triplet<double>;
-  std::vector<Triplet> entries;
-  entries.reserve(FreeVertex.size() + 4 * Topo.edges.size() + 16 * TetWeight.size());
-  for (std::size_t r = 0; r < FreeVertex.size(); ++r)
-  {
-    const int row = static_cast<int>(r);
-    entries.emplace_back(row, row, 1.0 / (h * h * InverseMass[FreeVertex[r]]));
-  }
-  // Entries that couple to a fixed point stay on the free point's diagonal only: the fixed one
-  // does not move, so A_ff is the matrix of the free unknowns.
-  const auto addPair = [&](std::int32_t i, std::int32_t j, double weight) {
-    const int fi = FreeIndex[i], fj = FreeIndex[j];
-    if (fi >= 0 && fj >= 0)
-    {
-      entries.emplace_back(fi, fj, weight);
-    }
-  };
-  for (std::size_t e = 0; e < Topo.edges.size(); ++e)
-  {
-    const double w = Constants.springStiffness[e] + Constants.springDamping[e] / h;
-    const Edge& edge = Topo.edges[e];
-    addPair(edge.a, edge.a, w);
-    addPair(edge.b, edge.b, w);
-    addPair(edge.a, edge.b, -w);
-    addPair(edge.b, edge.a, -w);
-  }
-  for (std::size_t t = 0; t < TetWeight.size(); ++t)
-  {
-    const double w =
-      (Constants.volumeStiffness[t] + Constants.volumeDamping[t] / h) * TetWeight[t];
-    const Tet& tet = Topo.tets[t];
-    for (int a = 0; a < 4; ++a)
-    {
-      for (int b = 0; b < 4; ++b)
-      {
-        addPair(tet[a], tet[b], w * ((a == b ? 1.0 : 0.0) - 0.25));
-      }
-    }
-  }
-  for (std::size_t t = 0; Tets && t < Topo.tets.size(); ++t)
-  {
-    const LameParameters& p = Tets->linear[t];
-    const double viscosity = Tets->damped ? Tets->dampingTime[t] / h : 0.0;
-    const double w = (2.0 * p.mu + p.lambda) * Tets->restVolume[t] * (1.0 + viscosity);
-    const std::array<Vec3, 4>& g = Tets->shapeGradients[t];
-    const Tet& tet = Topo.tets[t];
-    for (int a = 0; a < 4; ++a)
-    {
-      for (int b = 0; b < 4; ++b)
-      {
-        addPair(tet[a], tet[b], w * g[static_cast<std::size_t>(a)].dot(g[static_cast<std::size_t>(b)]));
-      }
-    }
-  }
-  Eigen::SparseMatrix<double> matrix(
-    static_cast<Eigen::Index>(FreeVertex.size()), static_cast<Eigen::Index>(FreeVertex.size()));
-  matrix.setFromTriplets(entries.begin(), entries.end());
-  Cholesky.compute(matrix);
-  if (Cholesky.info() != Eigen::Success)
+  const std::string failure = Cholesky.factor(Matrix.assemble(h));
+  if (!failure.empty())
   {
     // A is M / h^2 plus positive semi-definite terms: this means a non-finite constant.
-    throw std::runtime_error("Projective Dynamics: the global matrix could not be factored "
-                             "(not positive definite); check the material constants.");
+    throw std::runtime_error("Projective Dynamics: the global matrix could not be factored (" +
+      failure + "); check the material constants.");
   }
   FactoredStep = h;
-  FactorNonZeros = static_cast<std::size_t>(Cholesky.matrixL().nestedExpression().nonZeros());
+  FactorNonZeros = Cholesky.factorNonZeros();
+  FactorBytes = Cholesky.factorBytes();
   FactorSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ++Factorizations;
 }
@@ -123,22 +44,17 @@ void ProjectiveDynamicsStepper::factor(double h)
 void ProjectiveDynamicsStepper::solve(
   const std::vector<Vec3>& q, const MotionFilter& filter, std::vector<Vec3>& direction)
 {
-  // x, y and z share A: three independent solves, one task each (Eigen's sparse triangular
-  // solve takes a many-column right-hand side one column at a time anyway).
-  const auto rows = static_cast<Eigen::Index>(FreeVertex.size());
-  Rhs.resize(rows, 3);
-  parallelFor(FreeVertex.size(), 4096, [&](std::size_t r) {
-    Rhs.row(static_cast<Eigen::Index>(r)) = -filter.apply(FreeVertex[r], q[FreeVertex[r]]).transpose();
+  // x, y and z share A: one solve with three right-hand sides, one pass over the factor.
+  const std::vector<std::int32_t>& rows = Matrix.freeVertices();
+  Rhs.resize(static_cast<Eigen::Index>(rows.size()), 3);
+  parallelFor(rows.size(), 4096, [&](std::size_t r) {
+    Rhs.row(static_cast<Eigen::Index>(r)) = -filter.apply(rows[r], q[rows[r]]).transpose();
   });
-  Solution.resize(rows, 3);
-  parallelFor(3, 1, [&](std::size_t axis) {
-    const auto a = static_cast<Eigen::Index>(axis);
-    Solution.col(a) = Cholesky.solve(Rhs.col(a));
-  });
+  Cholesky.solve(Rhs);
   direction.assign(q.size(), Vec3::Zero());
-  parallelFor(FreeVertex.size(), 4096, [&](std::size_t r) {
-    const std::size_t i = static_cast<std::size_t>(FreeVertex[r]);
-    direction[i] = filter.apply(i, Solution.row(static_cast<Eigen::Index>(r)).transpose());
+  parallelFor(rows.size(), 4096, [&](std::size_t r) {
+    const std::size_t i = static_cast<std::size_t>(rows[r]);
+    direction[i] = filter.apply(i, Rhs.row(static_cast<Eigen::Index>(r)).transpose());
   });
 }
 

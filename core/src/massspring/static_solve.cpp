@@ -52,7 +52,8 @@ std::string staticHoldProblem(const std::vector<Vec3>& positions, const PointMas
 }
 
 StaticStepper::StaticStepper(const Topology& topology, const BodyElements& elements,
-  const PointMasses& masses, const SceneSettings& scene, const std::vector<Vec3>& positions)
+  const PointMasses& masses, const std::vector<Vec3>& restPositions, const SceneSettings& scene,
+  const std::vector<Vec3>& positions)
 {
   if (const std::string problem = staticHoldProblem(positions, masses); !problem.empty())
   {
@@ -69,7 +70,7 @@ StaticStepper::StaticStepper(const Topology& topology, const BodyElements& eleme
     Tets.damped = false;
     undamped.tets = &Tets;
   }
-  Newton = std::make_unique<ImplicitEulerStepper>(topology, undamped, masses, scene, true);
+  Newton = std::make_unique<ImplicitEulerStepper>(topology, undamped, masses, restPositions, scene, true);
 }
 
 void StaticStepper::step(double h, DynamicState& state, StepPlan& plan)

@@ -60,7 +60,7 @@ class Bdf2Stepper final : public ImplicitIntegrator
 {
 public:
   Bdf2Stepper(const Topology& topology, const BodyElements& elements, const PointMasses& masses,
-    const SceneSettings& scene);
+    const std::vector<Vec3>& restPositions, const SceneSettings& scene);
 
   /// One BDF2 step of h from the state and its history (previousPositions, previousVelocities,
   /// previousStep), which it updates; a backward-Euler step where there is none. A point the
@@ -71,6 +71,11 @@ public:
   const ImplicitConvergence& convergence() const override { return BackwardEuler.convergence(); }
   IncrementalPotential& potential() override { return BackwardEuler.potential(); }
   ContactPlanes& contactPlanes() override { return BackwardEuler.contactPlanes(); }
+  std::string solverWarning() const override { return BackwardEuler.solverWarning(); }
+  const CoordinatePreconditioner* coordinatePreconditioner() const override
+  {
+    return BackwardEuler.coordinatePreconditioner();
+  }
 
   /// The largest step ratio h / h_prev a BDF2 step is taken at. Variable-step BDF2 is
   /// zero-stable for sequences of ratios below 1 + sqrt(2); a single larger one is not

@@ -14,11 +14,14 @@
 #include "softbody/material/mass.h"
 
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
 namespace softbody
 {
+
+class CoordinatePreconditioner;
 
 class ImplicitIntegrator
 {
@@ -37,6 +40,11 @@ public:
   /// The contact planes the steps keep points on (the floor's; the owner adds the obstacles'
   /// before each step).
   virtual ContactPlanes& contactPlanes() = 0;
+  /// Why the solve runs other than asked (a preconditioner that could not be factored), quoting
+  /// the cause; empty when it runs as asked. The owner reports it once.
+  virtual std::string solverWarning() const { return {}; }
+  /// The coordinate preconditioner of the Newton solves, when one is used (its factor's facts).
+  virtual const CoordinatePreconditioner* coordinatePreconditioner() const { return nullptr; }
 };
 
 /// The strategy for scene.integrator (which must be implicit), over the prepared body.

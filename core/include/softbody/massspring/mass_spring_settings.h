@@ -2,6 +2,7 @@
 // settings (integrator, step, gravity, floor, strain limit). Immutable once the stepper is made.
 #pragma once
 
+#include "softbody/common/sparse_cholesky.h"
 #include "softbody/integrators/explicit_integrators.h"
 #include "softbody/material/material.h"
 #include "softbody/mesh/tet_mesh.h"
@@ -12,6 +13,14 @@
 
 namespace softbody
 {
+
+/// What preconditions the conjugate gradients of Implicit Euler's, BDF2's and the static
+/// solve's Newton iterations (block_pcg.h, coordinate_preconditioner.h).
+enum class LinearPreconditioner
+{
+  BlockJacobi, ///< each point's own 3x3 block: no set-up, many iterations on large meshes
+  Coordinate   ///< a sparse Cholesky factor of the isotropic step matrix, reused across steps
+};
 
 /// How the implicit integrators solve each step (see implicit_euler.h, projective_dynamics.h).
 struct ImplicitSettings
@@ -25,6 +34,9 @@ struct ImplicitSettings
   /// Projective Dynamics: (s, y) pairs of the L-BFGS acceleration (Liu et al. 2017), which
   /// uses the prefactored matrix as its initial Hessian; 0 = plain local/global iterations.
   int projectiveHistory = 10;
+  LinearPreconditioner preconditioner = LinearPreconditioner::BlockJacobi;
+  /// The factorization of Projective Dynamics' matrix and of the coordinate preconditioner.
+  CholeskyBackend cholesky = CholeskyBackend::CholmodSupernodal;
   bool operator==(const ImplicitSettings&) const = default;
 };
 

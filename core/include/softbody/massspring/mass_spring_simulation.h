@@ -105,6 +105,11 @@ public:
   {
     return dynamic_cast<const ProjectiveDynamicsStepper*>(Implicit.get());
   }
+  /// The implicit solve's coordinate preconditioner; null when it uses block Jacobi.
+  const CoordinatePreconditioner* coordinatePreconditioner() const
+  {
+    return Implicit ? Implicit->coordinatePreconditioner() : nullptr;
+  }
 
 private:
   class Forces;

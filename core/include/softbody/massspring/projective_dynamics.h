@@ -1,7 +1,8 @@
 // Projective Dynamics for the mass-spring model (Liu et al. 2013, "Fast simulation of
 // mass-spring systems"; Bouaziz et al. 2014): backward Euler solved by local/global
-// iterations with one constant matrix per body and step size, factored once (Eigen's sparse
-// Cholesky, AMD ordering) and reused by every iteration of every step.
+// iterations with one constant matrix per body and step size (coordinate_matrix.h), factored
+// once (sparse_cholesky.h: CHOLMOD's supernodal factor by default) and reused by every
+// iteration of every step.
 //
 //   global matrix  A = M / h^2 + sum_e (k_e + kd_e / h) (e_a - e_b)(e_a - e_b)^T
 //                              + sum_t (K_t + Kd_t / h) |g0_t|^2 S_t        (per coordinate)
@@ -13,7 +14,8 @@
 // p = x - K (V - V0) / w g that reproduces its force, and the damping (taken implicitly along
 // the step's initial axes, as in Implicit Euler) through its Laplacian in A. So the iterations
 // converge to the same backward-Euler solution as Implicit Euler's Newton method, only
-// linearly, and each is cheap: one element pass and three triangular solve pairs. A step
+// linearly, and each is cheap: one element pass and one triangular solve pair for x, y and z
+// together. A step
 // length alpha < 1 is taken only when the full one would raise Phi (never for springs alone,
 // where A bounds the Hessian). With ImplicitSettings::projectiveHistory > 0 the solve is the
 // initial inverse Hessian of L-BFGS (Liu et al. 2017, "Quasi-Newton methods for real-time
@@ -34,7 +36,8 @@
 #include "softbody/massspring/implicit_integrator.h"
 #include "softbody/massspring/implicit_solve.h"
 
-#include <Eigen/SparseCholesky>
+#include "softbody/common/sparse_cholesky.h"
+#include "softbody/massspring/coordinate_matrix.h"
 
 #include <memory>
 
@@ -54,10 +57,10 @@ public:
   const ImplicitConvergence& convergence() const override { return Convergence; }
   IncrementalPotential& potential() override { return *Potential; }
   ContactPlanes& contactPlanes() override { return Solver.contactPlanes(); }
-  /// Wall time of the last factorization [s], and the factor's nonzeros (its memory is about
-  /// 12 bytes each).
+  /// Wall time of the last factorization [s], the factor's nonzeros and its bytes.
   double factorSeconds() const { return FactorSeconds; }
   std::size_t factorNonZeros() const { return FactorNonZeros; }
+  std::size_t factorBytes() const { return FactorBytes; }
   int factorizations() const { return Factorizations; }
 
 private:
@@ -67,19 +70,14 @@ private:
   /// The L-BFGS direction with A^-1 as initial inverse Hessian (plain PD with no history).
   void direction(const ImplicitStepSolver::Iterate& at, std::vector<Vec3>& direction);
 
-  const Topology& Topo;
-  const ElementConstants& Constants;
-  const TetElasticConstants* Tets; ///< the continuum models' (null for the network)
-  const std::vector<double>& InverseMass;
+  CoordinateMatrix Matrix;
+  SparseCholesky Cholesky;
   std::unique_ptr<IncrementalPotential> Potential; ///< the body's material model
   ImplicitStepSolver Solver;
-  std::vector<double> TetWeight;     ///< |g0_t|^2: the volume term's Laplacian weight per K
-  std::vector<std::int32_t> FreeIndex; ///< vertex -> row of A, -1 for fixed points
-  std::vector<std::int32_t> FreeVertex; ///< row of A -> vertex
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> Cholesky;
   double FactoredStep = 0.0;
   double FactorSeconds = 0.0;
   std::size_t FactorNonZeros = 0;
+  std::size_t FactorBytes = 0;
   int Factorizations = 0;
   ImplicitConvergence Convergence;
   struct Pair
@@ -90,7 +88,7 @@ private:
   int History = 0;
   std::vector<Pair> Pairs;  ///< oldest first
   std::vector<Vec3> LastX, LastGradient, Q;
-  Eigen::Matrix<double, Eigen::Dynamic, 3> Rhs, Solution;
+  Eigen::MatrixXd Rhs; ///< the three coordinates' right-hand sides, solved in place
   std::vector<double> Alpha;
 };
 

@@ -26,12 +26,18 @@ class StaticStepper final : public ImplicitIntegrator
 public:
   /// Throws InvalidInputError when the body is not held (staticHoldProblem).
   StaticStepper(const Topology& topology, const BodyElements& elements,
-    const PointMasses& masses, const SceneSettings& scene, const std::vector<Vec3>& positions);
+    const PointMasses& masses, const std::vector<Vec3>& restPositions, const SceneSettings& scene,
+    const std::vector<Vec3>& positions);
 
   void step(double h, DynamicState& state, StepPlan& plan) override;
   const ImplicitConvergence& convergence() const override { return Newton->convergence(); }
   IncrementalPotential& potential() override { return Newton->potential(); }
   ContactPlanes& contactPlanes() override { return Newton->contactPlanes(); }
+  std::string solverWarning() const override { return Newton->solverWarning(); }
+  const CoordinatePreconditioner* coordinatePreconditioner() const override
+  {
+    return Newton->coordinatePreconditioner();
+  }
 
 private:
   // The body's constants without damping: at equilibrium nothing moves.

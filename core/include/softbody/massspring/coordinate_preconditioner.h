@@ -1,0 +1,61 @@
+// A preconditioner for the conjugate gradients of Newton's step systems that sees the whole
+// mesh: a sparse Cholesky factor of the isotropic step matrix A(h) (coordinate_matrix.h),
+// applied to x, y and z with one solve: P^-1 r = (A^-1 r_x, A^-1 r_y, A^-1 r_z). (A constant
+// factor between A and the Hessian does not change conjugate gradients' iterates.)
+//
+// Block Jacobi needs many iterations on large meshes because it does not see the long-range
+// coupling: its iteration count grows with the mesh's diameter in elements. A(h) has the
+// Hessian's sparsity and its stiffest isotropic moduli at rest, so the preconditioned system's
+// condition number is bounded by how far the deformation and anisotropy take H from A, not by
+// the mesh size. The factor is reused across Newton iterations and steps: it is refactored only
+// when the step leaves [h_f / sqrt(2), sqrt(2) h_f] of the factored step h_f, or the set of
+// held points changes (a held point's row is decoupled to the identity, as the filter holds it
+// in place; points sliding on contact planes keep their rows, the filter removes the normal
+// motion after the solve).
+#pragma once
+
+#include "softbody/common/sparse_cholesky.h"
+#include "softbody/massspring/block_pcg.h"
+#include "softbody/massspring/coordinate_matrix.h"
+
+#include <string>
+#include <vector>
+
+namespace softbody
+{
+
+class CoordinatePreconditioner final : public PcgPreconditioner
+{
+public:
+  CoordinatePreconditioner(const Topology& topology, const BodyElements& elements,
+    const PointMasses& masses, const std::vector<Vec3>& restPositions, CholeskyBackend backend);
+
+  /// Makes the factor ready for a system of step h (with `inertia`: M / h^2 in it; the static
+  /// solve has none and h = infinity) whose held points are the filter's. Refactors only when
+  /// needed (see above). Returns an empty string when ready, else why the factorization
+  /// failed (then apply() must not be called).
+  std::string prepare(double h, bool inertia, const MotionFilter& filter);
+
+  /// z = P^-1 r over all points (held and fixed points get z = r's, which the filter zeroes).
+  void apply(const std::vector<Vec3>& r, std::vector<Vec3>& z) override;
+
+  int factorizations() const { return Factorizations; }
+  double factorSeconds() const { return FactorSeconds; } ///< all factorizations together
+  std::size_t factorBytes() const { return Cholesky.factorBytes(); }
+
+  /// The largest ratio between the step and the factored one at which the factor is reused.
+  static constexpr double kStepRatio = 1.4142135623730951;
+
+private:
+  CoordinateMatrix Matrix;
+  SparseCholesky Cholesky;
+  double FactoredStep = 0.0;
+  bool FactoredInertia = true;
+  std::vector<char> FactoredHeld; ///< per row of A: held by the filter when factored
+  std::vector<char> Held;
+  Eigen::MatrixXd Columns; ///< x, y and z of the right-hand side, solved in place
+  int Factorizations = 0;
+  double FactorSeconds = 0.0;
+};
+
+} // namespace softbody
