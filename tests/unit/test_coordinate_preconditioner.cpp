@@ -144,9 +144,9 @@ TEST(CoordinatePreconditioner, StaticSolveAndBdf2ReachTheSameSolution)
   }
 }
 
-// Held points change the matrix (their rows decouple) and a step outside sqrt(2) of the
-// factored one does too; steps within it reuse the factor.
-TEST(CoordinatePreconditioner, RefactorsOnlyWhenTheStepOrTheHeldPointsChange)
+// A step outside sqrt(2) of the factored one changes the matrix; steps within it reuse the
+// factor.
+TEST(CoordinatePreconditioner, RefactorsOnlyWhenTheStepLeavesSqrt2OfTheFactoredOne)
 {
   const BodyDescription body = cantilever(MaterialModel::Corotated, 1e6);
   SceneSettings scene;

@@ -16,12 +16,12 @@ CoordinatePreconditioner::CoordinatePreconditioner(const Topology& topology,
 {
 }
 
-std::string CoordinatePreconditioner::prepare(double h, bool inertia, const MotionFilter& filter)
+std::string CoordinatePreconditioner::prepare(double h, bool inertia, const std::vector<char>& active)
 {
   const std::vector<std::int32_t>& rows = Matrix.freeVertices();
   Held.resize(rows.size());
   parallelFor(rows.size(), 4096, [&](std::size_t r) {
-    Held[r] = filter.moves(static_cast<std::size_t>(rows[r])) ? 0 : 1;
+    Held[r] = active[static_cast<std::size_t>(rows[r])] ? 0 : 1;
   });
   const bool stepFits = inertia == FactoredInertia &&
     ((std::isinf(h) && std::isinf(FactoredStep)) ||

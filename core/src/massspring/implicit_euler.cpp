@@ -34,7 +34,7 @@ ImplicitEulerStepper::ImplicitEulerStepper(const Topology& topology,
   }
 }
 
-PcgPreconditioner* ImplicitEulerStepper::preconditioner(double h, const MotionFilter& filter)
+PcgPreconditioner* ImplicitEulerStepper::preconditioner(double h)
 {
   if (!Coordinate)
   {
@@ -42,8 +42,8 @@ PcgPreconditioner* ImplicitEulerStepper::preconditioner(double h, const MotionFi
   }
   // The static solve's matrix has neither inertia nor damping (h = infinity).
   const std::string failure = Equilibrium
-    ? Coordinate->prepare(std::numeric_limits<double>::infinity(), false, filter)
-    : Coordinate->prepare(h, true, filter);
+    ? Coordinate->prepare(std::numeric_limits<double>::infinity(), false, Potential->active())
+    : Coordinate->prepare(h, true, Potential->active());
   if (failure.empty())
   {
     return Coordinate.get();
@@ -70,7 +70,7 @@ void ImplicitEulerStepper::step(double h, DynamicState& state, StepPlan& plan)
     Rhs.resize(at.gradient.size());
     parallelFor(at.gradient.size(), 4096, [&](std::size_t i) { Rhs[i] = -at.gradient[i]; });
     return solveBlockPcg(Hessian, at.filter, Rhs, forcing, kMaxLinearIterations, direction,
-      LinearWork, preconditioner(h, at.filter))
+      LinearWork, preconditioner(h))
       .iterations;
   };
   Solver.step(h, state, plan, newtonDirection, Convergence);

@@ -9,9 +9,10 @@
 // condition number is bounded by how far the deformation and anisotropy take H from A, not by
 // the mesh size. The factor is reused across Newton iterations and steps: it is refactored only
 // when the step leaves [h_f / sqrt(2), sqrt(2) h_f] of the factored step h_f, or the set of
-// held points changes (a held point's row is decoupled to the identity, as the filter holds it
-// in place; points sliding on contact planes keep their rows, the filter removes the normal
-// motion after the solve).
+// points the conditions hold changes (a held point's row is decoupled to the identity). Points
+// held by contacts (sliding on a plane, or stuck by static friction) keep their rows: the
+// filter removes their motion after the solve, and a contact set that changes from one Newton
+// iteration to the next would otherwise refactor at every one.
 #pragma once
 
 #include "softbody/common/sparse_cholesky.h"
@@ -31,10 +32,10 @@ public:
     const PointMasses& masses, const std::vector<Vec3>& restPositions, CholeskyBackend backend);
 
   /// Makes the factor ready for a system of step h (with `inertia`: M / h^2 in it; the static
-  /// solve has none and h = infinity) whose held points are the filter's. Refactors only when
-  /// needed (see above). Returns an empty string when ready, else why the factorization
+  /// solve has none and h = infinity) with the points `active` is 0 at held by conditions
+  /// (IncrementalPotential::active()). Refactors only when needed (see above). Returns an empty string when ready, else why the factorization
   /// failed (then apply() must not be called).
-  std::string prepare(double h, bool inertia, const MotionFilter& filter);
+  std::string prepare(double h, bool inertia, const std::vector<char>& active);
 
   /// z = P^-1 r over all points (held and fixed points get z = r's, which the filter zeroes).
   void apply(const std::vector<Vec3>& r, std::vector<Vec3>& z) override;
@@ -51,7 +52,7 @@ private:
   SparseCholesky Cholesky;
   double FactoredStep = 0.0;
   bool FactoredInertia = true;
-  std::vector<char> FactoredHeld; ///< per row of A: held by the filter when factored
+  std::vector<char> FactoredHeld; ///< per row of A: held by a condition when factored
   std::vector<char> Held;
   Eigen::MatrixXd Columns; ///< x, y and z of the right-hand side, solved in place
   int Factorizations = 0;

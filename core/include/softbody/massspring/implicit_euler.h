@@ -42,7 +42,7 @@ public:
 
 private:
   /// The coordinate preconditioner made ready for this system, or null for block Jacobi.
-  PcgPreconditioner* preconditioner(double h, const MotionFilter& filter);
+  PcgPreconditioner* preconditioner(double h);
 
   std::unique_ptr<IncrementalPotential> Potential; ///< the body's material model
   ImplicitStepSolver Solver;
