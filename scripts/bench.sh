@@ -13,7 +13,7 @@
 #
 # A complete run (no scene named, not --quick, default output folder) then writes its tables
 # into docs/accuracy.md (scripts/update_docs_tables.py) with bench_error_control's, copies its
-# plots to docs/bench/, and runs bench_tet_elasticity, bench_collision_scenes, bench_implicit and bench_conditions, whose tables go into
+# plots to docs/bench/, and runs bench_tet_elasticity, bench_collision, bench_collision_scenes, bench_implicit and bench_conditions, whose tables go into
 # docs/performance.md.
 #
 # SOFTBODY_BENCH_OUT overrides output/bench; SOFTBODY_DATA_DIR the public meshes (../shared/data).
@@ -76,6 +76,10 @@ if [[ ${status} -eq 0 && ${quick} -eq 0 && ${scenes_given} -eq 0 && -z "${SOFTBO
   # The finite-element materials' cost per tet, into docs/performance.md.
   "${SOFTBODY_BUILD_DIR}/bin/bench_tet_elasticity" --data "${data}" --csv "${out}/tet_elasticity.csv" \
     | tee "${out}/bench_tet_elasticity.log" || status=$?
+  # Collision detection's broad phases (the PBD thesis's figures 5.1 and 5.2), into
+  # docs/performance.md.
+  "${SOFTBODY_BUILD_DIR}/bin/bench_collision" --repeat 7 --csv "${out}/broad_phases.csv" \
+    | tee "${out}/bench_collision.log" || status=$?
   # Collision scenes through the whole step (detection, contact solve, edge contacts), into
   # docs/performance.md.
   "${SOFTBODY_BUILD_DIR}/bin/bench_collision_scenes" --repeat 3 --csv "${out}/collision_scenes.csv" \

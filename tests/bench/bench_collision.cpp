@@ -16,6 +16,9 @@
 // machine), the median beside it; figure 5.2 also prints the least CPU time at one thread,
 // which other processes' turns on the cores do not inflate.
 //
+// Besides the CSV, figures 5.1 and 5.2 as Markdown tables in a file beside it (name.csv ->
+// name.md), which scripts/bench.sh writes into docs/performance.md.
+//
 // Usage: bench_collision [--smoke] [--csv PATH] [--repeat N]
 #include "bench_options.h"
 
@@ -156,6 +159,9 @@ int main(int argc, char** argv)
     csv << figure << ',' << layout << ',' << n << ',' << kindName(kind) << ',' << threads << ',' << t.minMs << ','
         << t.medianMs << ',' << t.cpuMs << ',' << t.contacts << ',' << t.pairs << '\n';
   };
+  // The figures as tables for docs/performance.md (scripts/update_docs_tables.py).
+  std::ofstream table(bench::tableBeside(options.csv));
+  char cell[256];
   std::printf("Collision detection (broad + narrow phase), particles of radius %g m touching, %zu threads max,"
               " min (median) of %d runs\n", kRadius, maxThreads, repeat);
 
@@ -163,6 +169,10 @@ int main(int argc, char** argv)
   const std::size_t fig1 = options.smoke ? 1000 : 8000;
   std::printf("\nFigure 5.1: %zu particles, ms per detection\n", fig1);
   std::printf("%-6s %-14s %8s %20s %20s %10s %10s\n", "scene", "broad phase", "contacts", "1 thread", "all threads", "2thr/1thr", "vs brute");
+  table << "Figure 5.1: " << fig1 << " particles asked for (the pile keeps fewer), minimum (median) of " << repeat
+        << " runs, ms per detection\n\n"
+        << "| scene | particles | broad phase | contacts | 1 thread | " << maxThreads << " threads | speed-up | brute force / this |\n"
+        << "|---|---:|---|---:|---:|---:|---:|---:|\n";
   for (bool pile : { false, true })
   {
     const ParticleScene scene = particleScene(fig1, pile);
@@ -183,6 +193,10 @@ int main(int argc, char** argv)
       }
       std::printf("%-6s %-14s %8zu %9.3f (%8.3f) %9.3f (%8.3f) %10.2f %10.1f\n", layout, kindName(kind), one.contacts,
         one.minMs, one.medianMs, all.minMs, all.medianMs, one.minMs / all.minMs, bruteMs / all.minMs);
+      std::snprintf(cell, sizeof(cell), "| %s | %zu | %s | %zu | %.3f (%.3f) | %.3f (%.3f) | %.2f | %.1f |\n", layout,
+        scene.geometry.rest.size(), kindName(kind), one.contacts, one.minMs, one.medianMs, all.minMs, all.medianMs,
+        one.minMs / all.minMs, bruteMs / all.minMs);
+      table << cell;
       record("5.1", layout, scene.geometry.rest.size(), kind, 1, one);
       record("5.1", layout, scene.geometry.rest.size(), kind, maxThreads, all);
     }
@@ -195,6 +209,10 @@ int main(int argc, char** argv)
   std::printf("\nFigure 5.2: uniform grid, box of particles, ms per detection\n");
   std::printf("%10s %10s %20s %20s %10s %14s %12s\n", "particles", "contacts", "1 thread", "all threads", "speed-up", "ns/particle",
     "1thr CPU ms");
+  table << "\nFigure 5.2: the uniform grid on a box of particles, minimum (median) of " << repeat
+        << " runs (half as many at 10^6), ms per detection\n\n"
+        << "| particles | contacts | 1 thread | " << maxThreads << " threads | speed-up | ns per particle ("
+        << maxThreads << " threads) |\n|---:|---:|---:|---:|---:|---:|\n";
   for (std::size_t n : sizes)
   {
     const ParticleScene scene = particleScene(n, false);
@@ -204,6 +222,10 @@ int main(int argc, char** argv)
     std::printf("%10zu %10zu %9.3f (%8.3f) %9.3f (%8.3f) %10.2f %14.1f %12.3f\n", scene.geometry.rest.size(), one.contacts,
       one.minMs, one.medianMs, all.minMs, all.medianMs, one.minMs / all.minMs,
       1e6 * all.minMs / static_cast<double>(scene.geometry.rest.size()), one.cpuMs);
+    std::snprintf(cell, sizeof(cell), "| %zu | %zu | %.3f (%.3f) | %.3f (%.3f) | %.2f | %.1f |\n", scene.geometry.rest.size(),
+      one.contacts, one.minMs, one.medianMs, all.minMs, all.medianMs, one.minMs / all.minMs,
+      1e6 * all.minMs / static_cast<double>(scene.geometry.rest.size()));
+    table << cell;
     record("5.2", "box", scene.geometry.rest.size(), BroadPhase::UniformGrid, 1, one);
     record("5.2", "box", scene.geometry.rest.size(), BroadPhase::UniformGrid, maxThreads, all);
   }

@@ -330,6 +330,69 @@ TEST(BroadPhaseStructures, GridWithGroupsSkipsExactlyThePairsOfOneGroup)
   }
 }
 
+TEST(BroadPhaseStructures, SinglePrecisionFilterKeepsPairsAtTheirReachFarFromTheOrigin)
+{
+  // The grid filters in single precision: a mesh far from the origin or in millimetres must
+  // lose no pair at exactly its reach. Lattices of points whose neighbours are within reach
+  // only by rounding (spacing = the sum of two reaches), far away and tiny, jittered and grouped.
+  struct Case
+  {
+    Vec3 offset;
+    double spacing;
+  };
+  for (const Case& c : { Case{ Vec3(1e6, -2e6, 3e5), 0.01 }, Case{ Vec3(0.0, 0.0, 0.0), 1e-6 },
+         Case{ Vec3(-4e3, 7e3, 1e4), 1e-3 }, Case{ Vec3(250.0, 250.0, 250.0), 0.5 } })
+  {
+    std::vector<Vec3> x;
+    std::vector<std::int32_t> groups;
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int> ulps(-2, 2);
+    for (int k = 0; k < 12; ++k)
+    {
+      for (int j = 0; j < 12; ++j)
+      {
+        for (int i = 0; i < 12; ++i)
+        {
+          Vec3 p = c.offset + c.spacing * Vec3(i, j, k);
+          for (int a = 0; a < 3; ++a) // a few ulps either way: on both sides of the reach
+          {
+            for (int u = ulps(rng); u != 0; u += u > 0 ? -1 : 1)
+            {
+              p[a] = std::nextafter(p[a], u > 0 ? 1e300 : -1e300);
+            }
+          }
+          x.push_back(p);
+          groups.push_back((i / 3 + j / 3 + k / 3) % 2);
+        }
+      }
+    }
+    const std::vector<double> reach(x.size(), 0.5 * c.spacing);
+    std::vector<std::pair<int, int>> expected;
+    for (const auto& [a, b] : truePairs(x, reach))
+    {
+      if (groups[static_cast<std::size_t>(a)] != groups[static_cast<std::size_t>(b)])
+      {
+        expected.emplace_back(a, b);
+      }
+    }
+    ASSERT_GT(expected.size(), 100u) << "offset " << c.offset.transpose() << ", spacing " << c.spacing;
+    UniformGrid grid;
+    grid.build(x, reach, c.spacing, groups);
+    EXPECT_EQ(gridPairs(grid, x, reach), expected) << "offset " << c.offset.transpose() << ", spacing " << c.spacing;
+  }
+}
+
+TEST(BroadPhaseStructures, GridRefusesGroupsThatDoNotMatchThePoints)
+{
+  UniformGrid grid;
+  const std::vector<Vec3> x = randomPoints(10, 1.0, false, 1);
+  const std::vector<double> reach(x.size(), 0.1);
+  EXPECT_THROW(grid.build(x, reach, 0.2, std::vector<std::int32_t>(9, 0)), std::invalid_argument);
+  std::vector<std::int32_t> groups(x.size(), 0);
+  groups[4] = std::numeric_limits<std::int32_t>::min();
+  EXPECT_THROW(grid.build(x, reach, 0.2, groups), std::invalid_argument);
+}
+
 TEST(BroadPhases, SameContactSetAsBruteForceOnRandomScenes)
 {
   std::size_t scenes = 0;

@@ -4,8 +4,9 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace softbody
 {
@@ -13,16 +14,28 @@ namespace softbody
 namespace
 {
 
-/// The smallest float >= value: a reach stored in single precision never shrinks.
-float roundedUp(double value)
+/// The points' cell box and coordinate box.
+struct Bounds
 {
-  auto f = static_cast<float>(value);
-  if (static_cast<double>(f) < value)
+  std::int64_t lo[3] = { std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::max(),
+    std::numeric_limits<std::int64_t>::max() };
+  std::int64_t hi[3] = { std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::min(),
+    std::numeric_limits<std::int64_t>::min() };
+  Vec3 lowest = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 highest = Vec3::Constant(-std::numeric_limits<double>::infinity());
+
+  Bounds& include(const Bounds& other)
   {
-    f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    for (int a = 0; a < 3; ++a)
+    {
+      lo[a] = std::min(lo[a], other.lo[a]);
+      hi[a] = std::max(hi[a], other.hi[a]);
+    }
+    lowest = lowest.cwiseMin(other.lowest);
+    highest = highest.cwiseMax(other.highest);
+    return *this;
   }
-  return f;
-}
+};
 
 } // namespace
 
@@ -30,6 +43,11 @@ void UniformGrid::build(const std::vector<Vec3>& positions, const std::vector<do
   const std::vector<std::int32_t>& groups)
 {
   const std::size_t n = positions.size();
+  if (!groups.empty() && (groups.size() != n || std::find(groups.begin(), groups.end(), kNoGroup) != groups.end()))
+  {
+    throw std::invalid_argument("UniformGrid: " + std::to_string(groups.size()) + " groups for " + std::to_string(n) +
+      " points, or a group of " + std::to_string(kNoGroup) + " (reserved for query points)");
+  }
   InverseCell = cellSize > 0.0 ? 1.0 / cellSize : 1.0;
   // Scratch kept between builds: freeing and re-mapping these megabytes each detection would
   // cost page faults.
@@ -41,21 +59,23 @@ void UniformGrid::build(const std::vector<Vec3>& positions, const std::vector<do
       cells[3 * i + a] = cellOf(positions[i][a]);
     }
   });
-  // The cell box, and whether a dense index over it is small enough.
-  std::int64_t lo[3], hi[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    lo[a] = std::numeric_limits<std::int64_t>::max();
-    hi[a] = std::numeric_limits<std::int64_t>::min();
-  }
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      lo[a] = std::min(lo[a], cells[3 * i + a]);
-      hi[a] = std::max(hi[a], cells[3 * i + a]);
-    }
-  }
+  // The cell box, and whether a dense index over it is small enough; the points' box, the
+  // single-precision filter's origin. (Minima and maxima: exact in any order.)
+  const Bounds bounds = parallelReduce(n, 4096, Bounds{},
+    [&](std::size_t i) {
+      Bounds one;
+      for (int a = 0; a < 3; ++a)
+      {
+        one.lo[a] = one.hi[a] = cells[3 * i + a];
+      }
+      one.lowest = one.highest = positions[i];
+      return one;
+    },
+    [](Bounds x, const Bounds& y) { return x.include(y); });
+  const std::int64_t* lo = bounds.lo;
+  const std::int64_t* hi = bounds.hi;
+  Corner = n > 0 ? bounds.lowest : Vec3::Zero();
+  Extent = n > 0 ? (bounds.highest - bounds.lowest).maxCoeff() : 0.0;
   const std::uint64_t denseLimit = kDenseCellsPerPoint * std::max<std::uint64_t>(n, 64);
   double denseCells = 1.0; // in double: the spans of far-apart points overflow integers
   for (int a = 0; a < 3 && n > 0; ++a)
@@ -99,26 +119,37 @@ void UniformGrid::build(const std::vector<Vec3>& positions, const std::vector<do
   {
     BucketStart[b + 1] += BucketStart[b];
   }
-  std::vector<std::int32_t>& items = ScratchItems;
-  items.resize(n);
+  Items.resize(n);
   {
     std::vector<std::uint32_t>& next = ScratchNext;
     next.assign(BucketStart.begin(), BucketStart.end() - 1);
     for (std::size_t i = 0; i < n; ++i)
     {
-      items[next[bucket[i]]++] = static_cast<std::int32_t>(i);
+      Items[next[bucket[i]]++] = static_cast<std::int32_t>(i);
     }
   }
-  Entries.resize(n);
-  EntryGroups.resize(groups.empty() ? 0 : n);
+  // Padded for the filter's last group of kLanes (masked out; zeros, so no NaN is computed).
+  for (auto* lanes : { &X, &Y, &Z, &Reach })
+  {
+    lanes->resize(n + kLanes - 1);
+    std::fill(lanes->begin() + static_cast<std::ptrdiff_t>(n), lanes->end(), 0.0f);
+  }
+  for (auto* lanes : { &Groups, &Items })
+  {
+    lanes->resize(n + kLanes - 1);
+    std::fill(lanes->begin() + static_cast<std::ptrdiff_t>(n), lanes->end(), 0);
+  }
+  Positions.resize(n);
   parallelFor(n, 4096, [&](std::size_t s) {
-    Entries[s].position = positions[items[s]];
-    Entries[s].reach = roundedUp(reaches[items[s]]);
-    Entries[s].item = items[s];
-    if (!groups.empty())
-    {
-      EntryGroups[s] = groups[static_cast<std::size_t>(items[s])];
-    }
+    const auto item = static_cast<std::size_t>(Items[s]);
+    const Vec3& p = positions[item];
+    const FloatPoint q = relative(p);
+    X[s] = q.x;
+    Y[s] = q.y;
+    Z[s] = q.z;
+    Reach[s] = static_cast<float>(reaches[item]); // rounded to nearest: kReachGrowth covers it
+    Groups[s] = groups.empty() ? Items[s] : groups[item];
+    Positions[s] = p;
   });
 }
 
