@@ -84,10 +84,10 @@ std::string vtkSoftBodyImplicitReport::Warning(
           << c.residual << "), stopped at ImplicitMaxIterations = " << maxIterations
           << " or where no step length lowered the energy any further (the precision floor of a "
              "stiff body). Those steps are not accurate. Raise ImplicitMaxIterations";
-  if (std::string(integrator) == "Projective Dynamics")
+  if (std::string(integrator) == "Projective Dynamics" || std::string(integrator) == "Vertex Block Descent")
   {
     message << ", or use Implicit Euler, whose Newton iterations handle stiff materials "
-               "(Projective Dynamics converges slowly on them)";
+               "(" << integrator << " converges slowly on them)";
   }
   else
   {

@@ -48,7 +48,8 @@ struct vtkSoftBodyParameters
     IMPLICIT_EULER = 4,
     PROJECTIVE_DYNAMICS = 5,
     STATIC = 6,
-    BDF2 = 7
+    BDF2 = 7,
+    VERTEX_BLOCK_DESCENT = 8
   };
   enum MaterialModelType
   {

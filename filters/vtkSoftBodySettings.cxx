@@ -188,7 +188,8 @@ static_assert(vtkSoftBodyFilter::EULER == int(softbody::Integrator::Euler) &&
     vtkSoftBodyFilter::IMPLICIT_EULER == int(softbody::Integrator::ImplicitEuler) &&
     vtkSoftBodyFilter::PROJECTIVE_DYNAMICS == int(softbody::Integrator::ProjectiveDynamics) &&
     vtkSoftBodyFilter::STATIC == int(softbody::Integrator::Static) &&
-    vtkSoftBodyFilter::BDF2 == int(softbody::Integrator::Bdf2),
+    vtkSoftBodyFilter::BDF2 == int(softbody::Integrator::Bdf2) &&
+    vtkSoftBodyFilter::VERTEX_BLOCK_DESCENT == int(softbody::Integrator::VertexBlockDescent),
   "the Integrator property's values must be core's Integrator values");
 
 softbody::Integrator vtkSoftBodySettings::Integrator(int integrator)

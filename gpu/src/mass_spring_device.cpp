@@ -241,6 +241,7 @@ void MassSpringDevice::integrate(double h, double kick)
     case Integrator::ProjectiveDynamics:
     case Integrator::Static:
     case Integrator::Bdf2:
+    case Integrator::VertexBlockDescent:
       // Refused in tryCreateGpuMassSpring (the filter then runs them on the CPU).
       throw std::logic_error("the GPU stepper has no implicit integrator");
   }

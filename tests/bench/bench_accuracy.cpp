@@ -349,7 +349,7 @@ std::vector<Row> sweep(const LabScene& s)
     const std::vector<double> implicitSteps = small
       ? std::vector<double>{ 1.0 / 60, 1.0 / 240 }
       : std::vector<double>{ 1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480, 1.0 / 960 };
-    for (Integrator integrator : { Integrator::ImplicitEuler, Integrator::ProjectiveDynamics })
+    for (Integrator integrator : { Integrator::ImplicitEuler, Integrator::ProjectiveDynamics, Integrator::VertexBlockDescent })
     {
       for (double h : implicitSteps)
       {

@@ -81,6 +81,7 @@ void integrateStep(Integrator integrator, double h, const AccelerationEvaluator&
     case Integrator::ProjectiveDynamics:
     case Integrator::Static:
     case Integrator::Bdf2:
+    case Integrator::VertexBlockDescent:
       throw std::logic_error("integrateStep: implicit integrators have their own steppers");
   }
   state.time += h;

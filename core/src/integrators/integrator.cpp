@@ -83,7 +83,7 @@ double staticRadius(double, double, double)
 
 using I = Integrator;
 // clang-format off
-constexpr std::array<IntegratorFacts, 8> kTable{ {
+constexpr std::array<IntegratorFacts, 9> kTable{ {
   // integrator            name                 order implicit symplectic evaluations
   //   staggered velocity, GPU, undamped reference, plan's element pass and linear solve, stability
   { I::Euler,              "Euler",               1, false, false, 1,
@@ -106,6 +106,9 @@ constexpr std::array<IntegratorFacts, 8> kTable{ {
   // Implicit Euler's Newton solve of 2h/3 from the extrapolated state.
   { I::Bdf2,               "BDF2",                2, true,  false, 1,
     false, false, I::Bdf2,               "gradient + Hessian",  "block-Jacobi PCG",     bdf2Radius },
+  // Per-point sweeps: every element evaluated at each of its corners; no linear system.
+  { I::VertexBlockDescent, "Vertex Block Descent", 1, true, false, 1,
+    false, false, I::VertexBlockDescent, "colored per-point sweeps", "3x3 per point", backwardEulerRadius },
 } };
 // clang-format on
 

@@ -4,6 +4,7 @@
 #include "softbody/massspring/implicit_euler.h"
 #include "softbody/massspring/projective_dynamics.h"
 #include "softbody/massspring/static_solve.h"
+#include "softbody/massspring/vertex_block_descent.h"
 
 #include <stdexcept>
 #include <string>
@@ -28,6 +29,9 @@ std::unique_ptr<ImplicitIntegrator> makeImplicitIntegrator(const SceneSettings& 
     case Integrator::ProjectiveDynamics:
       integrator = std::make_unique<ProjectiveDynamicsStepper>(
         topology, elements, masses, restPositions, scene);
+      break;
+    case Integrator::VertexBlockDescent:
+      integrator = std::make_unique<VertexBlockDescentStepper>(topology, elements, masses, scene);
       break;
     case Integrator::Static:
       integrator = std::make_unique<StaticStepper>(topology, elements, masses, restPositions, scene, positions);

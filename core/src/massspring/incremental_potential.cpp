@@ -89,6 +89,39 @@ void IncrementalPotential::addLoadHessian(BlockSparseMatrix& hessian)
   }
 }
 
+void IncrementalPotential::beginVertexBlocks()
+{
+  PullStiffness.assign(Active.size(), 0.0);
+  if (Conditions && Conditions->hasPull())
+  {
+    Conditions->pullStiffness(EndTime, PullStiffness);
+  }
+}
+
+void IncrementalPotential::vertexBlock(std::size_t i, const std::vector<Vec3>& y, const std::vector<Vec3>& evaluated,
+  Vec3& gradient, Mat3& hessian) const
+{
+  const double m = 1.0 / InverseMass[i];
+  if (Static)
+  {
+    gradient = -m * Gravity;
+    hessian.setZero();
+  }
+  else
+  {
+    const double h2 = H * H;
+    gradient = m * ((y[i] - Target[i]) / h2 - Gravity);
+    hessian = (m / h2) * Mat3::Identity();
+  }
+  if (Conditions && Conditions->hasLoads())
+  {
+    const double k = PullStiffness.empty() ? 0.0 : PullStiffness[i];
+    gradient -= DeadLoad[i] + PullForce[i] - k * (y[i] - evaluated[i]);
+    hessian += k * Mat3::Identity();
+  }
+  addElementBlock(i, y, gradient, hessian);
+}
+
 void IncrementalPotential::predict(std::vector<Vec3>& x, bool withGravity) const
 {
   const Vec3 drift = withGravity ? Vec3(H * H * Gravity) : Vec3::Zero();

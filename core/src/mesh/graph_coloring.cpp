@@ -16,35 +16,29 @@ Csr particleSlots(std::size_t particleCount, const std::vector<std::int32_t>& pa
   return buildCsr(particleCount, rows, items);
 }
 
-Coloring colorConstraints(std::size_t particleCount, const std::vector<std::int32_t>& particles,
-  int arity, const std::vector<char>& movable)
+namespace
 {
-  const std::size_t count = particles.size() / static_cast<std::size_t>(arity);
-  const Csr slots = particleSlots(particleCount, particles);
+
+/// Greedy coloring of items 0..count-1 in index order: each takes the smallest color none of
+/// its earlier-colored neighbours has. forEachNeighbour(c, visit) visits c's neighbours (an
+/// uncolored one, or c itself, is ignored).
+template <class ForEachNeighbour>
+Coloring greedyColoring(std::size_t count, const ForEachNeighbour& forEachNeighbour)
+{
   std::vector<std::int32_t> color(count, -1);
-  // forbidden[k] == c means color k is taken by a neighbor of constraint c; stamping avoids
-  // clearing the array for every constraint.
+  // forbidden[k] == c means color k is taken by a neighbor of item c; stamping avoids
+  // clearing the array for every item.
   std::vector<std::int64_t> forbidden;
   std::int32_t colors = 0;
   for (std::size_t c = 0; c < count; ++c)
   {
-    for (int k = 0; k < arity; ++k)
-    {
-      const std::int32_t p = particles[c * static_cast<std::size_t>(arity) + static_cast<std::size_t>(k)];
-      if (!movable.empty() && !movable[static_cast<std::size_t>(p)])
+    forEachNeighbour(c, [&](std::size_t neighbour) {
+      const std::int32_t other = color[neighbour];
+      if (other >= 0 && neighbour != c)
       {
-        continue;
+        forbidden[static_cast<std::size_t>(other)] = static_cast<std::int64_t>(c);
       }
-      for (std::int32_t s = slots.offsets[static_cast<std::size_t>(p)];
-           s < slots.offsets[static_cast<std::size_t>(p) + 1]; ++s)
-      {
-        const std::int32_t other = color[static_cast<std::size_t>(slots.items[static_cast<std::size_t>(s)] / arity)];
-        if (other >= 0)
-        {
-          forbidden[static_cast<std::size_t>(other)] = static_cast<std::int64_t>(c);
-        }
-      }
-    }
+    });
     std::int32_t chosen = 0;
     while (chosen < colors && forbidden[static_cast<std::size_t>(chosen)] == static_cast<std::int64_t>(c))
     {
@@ -76,6 +70,40 @@ Coloring colorConstraints(std::size_t particleCount, const std::vector<std::int3
       static_cast<std::int32_t>(c);
   }
   return result;
+}
+
+} // namespace
+
+Coloring colorConstraints(std::size_t particleCount, const std::vector<std::int32_t>& particles,
+  int arity, const std::vector<char>& movable)
+{
+  const auto width = static_cast<std::size_t>(arity);
+  const Csr slots = particleSlots(particleCount, particles);
+  return greedyColoring(particles.size() / width, [&](std::size_t c, const auto& visit) {
+    for (std::size_t k = 0; k < width; ++k)
+    {
+      const auto p = static_cast<std::size_t>(particles[c * width + k]);
+      if (!movable.empty() && !movable[p])
+      {
+        continue;
+      }
+      for (std::int32_t s = slots.offsets[p]; s < slots.offsets[p + 1]; ++s)
+      {
+        visit(static_cast<std::size_t>(slots.items[static_cast<std::size_t>(s)]) / width);
+      }
+    }
+  });
+}
+
+Coloring colorVertices(const Topology& topology)
+{
+  return greedyColoring(topology.vertexCount, [&](std::size_t v, const auto& visit) {
+    for (std::int32_t s = topology.vertexEdges.offsets[v]; s < topology.vertexEdges.offsets[v + 1]; ++s)
+    {
+      const Edge& edge = topology.edges[static_cast<std::size_t>(topology.vertexEdges.items[static_cast<std::size_t>(s)])];
+      visit(static_cast<std::size_t>(edge.a == static_cast<std::int32_t>(v) ? edge.b : edge.a));
+    }
+  });
 }
 
 } // namespace softbody

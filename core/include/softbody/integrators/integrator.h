@@ -25,7 +25,11 @@ enum class Integrator
   /// 2h/3 from the state extrapolated from the last two, through the same Newton solve.
   /// Second order, L-stable, far less dissipative than Implicit Euler. (Last: the values
   /// before it are the filter's and the state files'.)
-  Bdf2
+  Bdf2,
+  /// Backward Euler by Vertex Block Descent (vertex_block_descent.h, Chen et al. 2024): colored
+  /// Gauss-Seidel sweeps of per-point 3 x 3 Newton steps. First order, dissipative like
+  /// Implicit Euler.
+  VertexBlockDescent
 };
 
 struct IntegratorFacts

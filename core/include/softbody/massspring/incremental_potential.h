@@ -93,6 +93,17 @@ public:
   /// the identity. (Only Newton needs it, and only at accepted iterates: evaluate() skips it.)
   virtual void assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian) = 0;
 
+  /// Block coordinate descent (vertex_block_descent.h): Phi's gradient and the diagonal 3 x 3
+  /// block of its PSD-projected Hessian with respect to point i alone, at positions `y` (point
+  /// i's elements evaluated there; the other points are where `y` has them). The loads are
+  /// taken as at `evaluated`, the x of the last evaluate(), linearized in y_i (a Pull spring is
+  /// linear in its point). Call beginVertexBlocks() after that evaluate(). Reads only: calls
+  /// for points of no common element may run in parallel.
+  void vertexBlock(std::size_t i, const std::vector<Vec3>& y, const std::vector<Vec3>& evaluated, Vec3& gradient,
+    Mat3& hessian) const;
+  /// The Pull springs' stiffness at the step's end (for vertexBlock).
+  void beginVertexBlocks();
+
   /// Mass-weighted RMS of the residual acceleration, sqrt(sum_i |G_i|^2 / m_i / sum_i m_i)
   /// [m/s^2]: how far the step's equations are from holding, in the units of g.
   double residualAcceleration(const std::vector<Vec3>& gradient) const;
@@ -117,6 +128,8 @@ protected:
 
   /// The model's per-step data (its frozen damping directions) from X0 and H.
   virtual void beginElements() = 0;
+  /// Adds point i's elements' gradient and diagonal Hessian blocks at y (see vertexBlock).
+  virtual void addElementBlock(std::size_t i, const std::vector<Vec3>& y, Vec3& gradient, Mat3& hessian) const = 0;
   /// The inertia and gravity part of Phi(x) [J].
   double inertialEnergy(const std::vector<Vec3>& x) const;
   /// Adds the loads' terms to Phi's gradient at x (zero rows stay zero) and returns their
@@ -163,6 +176,17 @@ public:
   void assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian) override;
 
 private:
+  void addElementBlock(std::size_t i, const std::vector<Vec3>& y, Vec3& gradient, Mat3& hessian) const override;
+  /// body(family, data) for each family, in the model's order, reading only.
+  template <class Body>
+  void forEachFamilyConst(Body&& body) const
+  {
+    const Families families = Elements.families();
+    [&]<std::size_t... I>(std::index_sequence<I...>) {
+      (body(std::get<I>(families), std::get<I>(Data)), ...);
+    }(std::make_index_sequence<kFamilyCount>{});
+  }
+
   /// What the potential keeps of one family: per step, per evaluate() and per assembly.
   template <class F>
   struct FamilyData
@@ -214,6 +238,24 @@ void ModelPotential<Model>::beginElements()
     data.step.resize(family.size());
     parallelFor(family.size(), kElementGrain,
       [&](std::size_t e) { data.step[e] = family.stepData(e, X0); });
+  });
+}
+
+template <ElementModel Model>
+void ModelPotential<Model>::addElementBlock(std::size_t i, const std::vector<Vec3>& y, Vec3& gradient, Mat3& hessian) const
+{
+  // Each element of the point evaluated afresh at y for this corner alone (Chen et al. 2024
+  // evaluate an element once per corner too): the others' positions may have moved since.
+  const StepStart start{ X0, H };
+  forEachFamilyConst([&](const auto& family, const auto& data) {
+    using Family = std::remove_cvref_t<decltype(family)>;
+    family.forEachCorner(static_cast<std::int32_t>(i), [&](std::size_t e, int a) {
+      typename Family::AtX atX;
+      family.evaluate(e, y, start, data.step[e], atX);
+      gradient += family.cornerGradient(data.step[e], atX, a);
+      const typename Family::HessianData local = family.hessianData(e, y, start, data.step[e], atX);
+      hessian += family.hessianBlock(data.step[e], atX, local, a, a);
+    });
   });
 }
 

@@ -1,6 +1,6 @@
 // Graph coloring of a constraint batch: constraints that share a particle get different colors,
 // so all constraints of one color can be projected in parallel without two threads writing the
-// same particle. This is what makes parallel Gauss-Seidel race-free and its result independent
+// same particle; and of a mesh's points, for per-point Gauss-Seidel. This is what makes parallel Gauss-Seidel race-free and its result independent
 // of the number of threads.
 #pragma once
 
@@ -29,5 +29,10 @@ Csr particleSlots(std::size_t particleCount, const std::vector<std::int32_t>& pa
 /// from forcing extra colors.
 Coloring colorConstraints(std::size_t particleCount, const std::vector<std::int32_t>& particles,
   int arity, const std::vector<char>& movable);
+
+/// Greedy coloring of a mesh's points in index order (deterministic): points joined by an edge
+/// (two corners of one element) get different colors, so the points of one color can be
+/// updated in parallel, each reading only points of other colors (Vertex Block Descent).
+Coloring colorVertices(const Topology& topology);
 
 } // namespace softbody
