@@ -8,6 +8,7 @@
 #include "softbody/massspring/mass_spring_setup.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -66,16 +67,6 @@ SolveRun run(const BodyDescription& body, Integrator integrator, LinearPrecondit
   return r;
 }
 
-double largestDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
-{
-  double largest = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    largest = std::max(largest, (a[i] - b[i]).norm());
-  }
-  return largest;
-}
-
 } // namespace
 
 // Without pins, a translation of the whole body stretches nothing: A 1 = M 1 / h^2 for every
@@ -123,7 +114,7 @@ TEST(CoordinatePreconditioner, SteelCantileverSameSolutionInFewerIterations)
     EXPECT_EQ(coordinate.warnings, 0u) << name;
     EXPECT_EQ(coordinate.factorizations, 1) << name;
     // The sag here is ~1e-5 m: solutions agree far below it.
-    EXPECT_LT(largestDifference(jacobi.positions, coordinate.positions), 1e-8) << name;
+    EXPECT_LT(test::maxDistance(jacobi.positions, coordinate.positions), 1e-8) << name;
     EXPECT_LT(coordinate.cgPerNewton, 0.75 * jacobi.cgPerNewton)
       << name << ": " << coordinate.cgPerNewton << " against block Jacobi's " << jacobi.cgPerNewton;
   }
@@ -139,7 +130,7 @@ TEST(CoordinatePreconditioner, StaticSolveAndBdf2ReachTheSameSolution)
     const SolveRun jacobi = run(body, integrator, LinearPreconditioner::BlockJacobi, 1.0 / 60, 4);
     const SolveRun coordinate = run(body, integrator, LinearPreconditioner::Coordinate, 1.0 / 60, 4);
     EXPECT_EQ(coordinate.warnings, 0u) << integratorName(integrator);
-    EXPECT_LT(largestDifference(jacobi.positions, coordinate.positions), 1e-7) << integratorName(integrator);
+    EXPECT_LT(test::maxDistance(jacobi.positions, coordinate.positions), 1e-7) << integratorName(integrator);
     EXPECT_LT(coordinate.cgPerNewton, jacobi.cgPerNewton) << integratorName(integrator);
   }
 }

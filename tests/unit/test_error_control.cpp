@@ -9,6 +9,7 @@
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
 #include "spring_oscillator.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -35,16 +36,6 @@ BodyDescription hangingBar()
     body.pinned[i] = body.mesh.points[i].z() > 1.2 - 1e-9 ? 1 : 0;
   }
   return body;
-}
-
-double largestDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
-{
-  double d = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    d = std::max(d, (a[i] - b[i]).norm());
-  }
-  return d;
 }
 
 } // namespace
@@ -144,7 +135,7 @@ TEST(ErrorControl, HangingBarMeetsTheToleranceWithImplicitAndExplicitIntegrators
     scene.stepControl = StepControl::ErrorControlled;
     scene.errorTolerance = c.tolerance;
     const auto sim = run(scene);
-    const double error = largestDistance(sim->positions(), reference);
+    const double error = test::maxDistance(sim->positions(), reference);
     const StepControlReport& report = sim->stepControlReport();
     std::cout << integratorName(c.integrator) << " at " << c.tolerance << " m/s: error " << error
               << " m; last frame " << report.acceptedSteps << " steps of " << report.smallestStep << " to "

@@ -17,21 +17,6 @@
 
 using namespace softbody;
 
-namespace
-{
-
-double largestDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
-{
-  double largest = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    largest = std::max(largest, (a[i] - b[i]).norm());
-  }
-  return largest;
-}
-
-} // namespace
-
 TEST(VertexBlockDescent, ColorsSeparateEveryEdge)
 {
   const TetMesh mesh = makeTetBox(5, 4, 3, 0.1);
@@ -97,7 +82,7 @@ TEST(VertexBlockDescent, ConvergesToImplicitEulerForEveryMaterialModel)
       MassSpringSimulation vbd(body, scene);
       vbd.restoreState(start);
       vbd.advance(scene.timeStep);
-      errors.push_back(largestDistance(vbd.positions(), newton.positions()));
+      errors.push_back(test::maxDistance(vbd.positions(), newton.positions()));
       for (std::size_t i = 0; i < start.positions.size(); ++i)
       {
         if (body.pinned[i])
