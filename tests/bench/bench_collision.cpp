@@ -16,11 +16,17 @@
 // machine), the median beside it; figure 5.2 also prints the least CPU time at one thread,
 // which other processes' turns on the cores do not inflate.
 //
+// Figure 5.2 also prints each detection's bound in the same run: the bytes any detection must
+// move (each point's start and predicted position, radius and body read once; each contact
+// written once) at the triad bandwidth measured at the start, so "x bound" says how far the
+// detection is from streaming its inputs and outputs.
+//
 // Besides the CSV, figures 5.1 and 5.2 as Markdown tables in a file beside it (name.csv ->
 // name.md), which scripts/bench.sh writes into docs/performance.md.
 //
 // Usage: bench_collision [--smoke] [--csv PATH] [--repeat N]
 #include "bench_options.h"
+#include "memory_bandwidth.h"
 
 #include "softbody/collision/collision_detector.h"
 
@@ -32,6 +38,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iomanip>
 #include <random>
 #include <string>
 #include <ctime>
@@ -206,25 +213,36 @@ int main(int argc, char** argv)
   const std::vector<std::size_t> sizes = options.smoke
     ? std::vector<std::size_t>{ 500, 2000 }
     : std::vector<std::size_t>{ 500, 1000, 2000, 5000, 10000, 20000, 100000, 1000000 };
-  std::printf("\nFigure 5.2: uniform grid, box of particles, ms per detection\n");
-  std::printf("%10s %10s %20s %20s %10s %14s %12s\n", "particles", "contacts", "1 thread", "all threads", "speed-up", "ns/particle",
-    "1thr CPU ms");
+  const double bandwidth = bench::measureTriadBandwidth(options.smoke ? (1u << 21) : (1u << 24), 5);
+  // Read once per point: start and predicted positions, radius, body; written once per contact.
+  const auto boundMs = [&](std::size_t points, std::size_t contacts) {
+    const double bytes = static_cast<double>(points) * (2 * sizeof(Vec3) + sizeof(double) + sizeof(std::int32_t)) +
+      static_cast<double>(contacts) * sizeof(Contact);
+    return 1e3 * bytes / bandwidth;
+  };
+  std::printf("\nFigure 5.2: uniform grid, box of particles, ms per detection (triad bandwidth %.1f GB/s at %zu threads)\n",
+    bandwidth * 1e-9, maxThreads);
+  std::printf("%10s %10s %20s %20s %10s %14s %12s %10s %8s\n", "particles", "contacts", "1 thread", "all threads", "speed-up", "ns/particle",
+    "1thr CPU ms", "bound ms", "x bound");
   table << "\nFigure 5.2: the uniform grid on a box of particles, minimum (median) of " << repeat
-        << " runs (half as many at 10^6), ms per detection\n\n"
+        << " runs (half as many at 10^6), ms per detection; bound: its inputs read and its contacts written once at the"
+        << " triad bandwidth measured in the same run (" << std::fixed << std::setprecision(1) << bandwidth * 1e-9
+        << std::defaultfloat << std::setprecision(6) << " GB/s)\n\n"
         << "| particles | contacts | 1 thread | " << maxThreads << " threads | speed-up | ns per particle ("
-        << maxThreads << " threads) |\n|---:|---:|---:|---:|---:|---:|\n";
+        << maxThreads << " threads) | bound ms | x bound |\n|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (std::size_t n : sizes)
   {
     const ParticleScene scene = particleScene(n, false);
     const int runs = n >= 1000000 ? std::max(2, repeat / 2) : repeat;
     const Timing one = timeDetection(scene, BroadPhase::UniformGrid, 1, runs);
     const Timing all = timeDetection(scene, BroadPhase::UniformGrid, maxThreads, runs);
-    std::printf("%10zu %10zu %9.3f (%8.3f) %9.3f (%8.3f) %10.2f %14.1f %12.3f\n", scene.geometry.rest.size(), one.contacts,
+    const double bound = boundMs(scene.geometry.rest.size(), all.contacts);
+    std::printf("%10zu %10zu %9.3f (%8.3f) %9.3f (%8.3f) %10.2f %14.1f %12.3f %10.3f %8.1f\n", scene.geometry.rest.size(), one.contacts,
       one.minMs, one.medianMs, all.minMs, all.medianMs, one.minMs / all.minMs,
-      1e6 * all.minMs / static_cast<double>(scene.geometry.rest.size()), one.cpuMs);
-    std::snprintf(cell, sizeof(cell), "| %zu | %zu | %.3f (%.3f) | %.3f (%.3f) | %.2f | %.1f |\n", scene.geometry.rest.size(),
+      1e6 * all.minMs / static_cast<double>(scene.geometry.rest.size()), one.cpuMs, bound, all.minMs / bound);
+    std::snprintf(cell, sizeof(cell), "| %zu | %zu | %.3f (%.3f) | %.3f (%.3f) | %.2f | %.1f | %.3f | %.1f |\n", scene.geometry.rest.size(),
       one.contacts, one.minMs, one.medianMs, all.minMs, all.medianMs, one.minMs / all.minMs,
-      1e6 * all.minMs / static_cast<double>(scene.geometry.rest.size()));
+      1e6 * all.minMs / static_cast<double>(scene.geometry.rest.size()), bound, all.minMs / bound);
     table << cell;
     record("5.2", "box", scene.geometry.rest.size(), BroadPhase::UniformGrid, 1, one);
     record("5.2", "box", scene.geometry.rest.size(), BroadPhase::UniformGrid, maxThreads, all);
