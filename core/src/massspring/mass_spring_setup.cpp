@@ -42,6 +42,7 @@ void validateScene(const SceneSettings& scene)
         check::quote(scene.implicit.tolerance) + ".");
     }
     check::atLeast("ImplicitMaxIterations", scene.implicit.maxIterations, 1);
+    check::inRange("Chebyshev radius of Vertex Block Descent", scene.implicit.chebyshevRadius, 0.0, 1.0, false, true);
   }
   if (scene.stepControl == StepControl::ErrorControlled && factsOf(scene.integrator).order < 1)
   {

@@ -14,6 +14,7 @@ VertexBlockDescentStepper::VertexBlockDescentStepper(const Topology& topology, c
   // Any decrease: a sweep is not a Newton step, so Armijo's model of the decrease does not apply.
   , Solver(*Potential, scene, ImplicitStepSolver::LineSearch::Decrease)
   , Colors(colorVertices(topology))
+  , Rho(scene.implicit.chebyshevRadius)
 {
 }
 
@@ -56,10 +57,39 @@ void VertexBlockDescentStepper::sweep(const ImplicitStepSolver::Iterate& at, std
   parallelFor(Y.size(), 4096, [&](std::size_t i) { direction[i] = Y[i] - at.x[i]; });
 }
 
+void VertexBlockDescentStepper::accelerate(const ImplicitStepSolver::Iterate& at, std::vector<Vec3>& direction)
+{
+  if (at.restart || Current.size() != at.x.size())
+  {
+    Omega = LastOmega = 1.0; // the first sweep of a step is taken as it is
+    Previous = at.x;
+    Current = at.x;
+    return;
+  }
+  if (at.x == Current)
+  {
+    Omega = LastOmega; // the same iteration asked again: the same omega and previous iterate
+  }
+  else
+  {
+    Previous.swap(Current);
+    Current = at.x;
+    LastOmega = Omega = Omega == 1.0 ? 2.0 / (2.0 - Rho * Rho) : 4.0 / (4.0 - Rho * Rho * Omega);
+  }
+  parallelFor(at.x.size(), 4096, [&](std::size_t i) {
+    const Vec3 accelerated = Omega * (at.x[i] + direction[i] - Previous[i]) + Previous[i];
+    direction[i] = at.filter.apply(i, accelerated - at.x[i]);
+  });
+}
+
 void VertexBlockDescentStepper::step(double h, DynamicState& state, StepPlan& plan)
 {
   const auto sweepDirection = [&](const ImplicitStepSolver::Iterate& at, std::vector<Vec3>& direction) {
     sweep(at, direction);
+    if (Rho > 0.0)
+    {
+      accelerate(at, direction);
+    }
     return 0;
   };
   Solver.step(h, state, plan, sweepDirection, Convergence);

@@ -34,6 +34,9 @@ struct ImplicitSettings
   /// Projective Dynamics: (s, y) pairs of the L-BFGS acceleration (Liu et al. 2017), which
   /// uses the prefactored matrix as its initial Hessian; 0 = plain local/global iterations.
   int projectiveHistory = 10;
+  /// Vertex Block Descent: the spectral radius rho its Chebyshev acceleration assumes (Wang
+  /// 2015; Chen et al. 2024 use it over their sweeps), in [0, 1); 0 = plain sweeps.
+  double chebyshevRadius = 0.95;
   LinearPreconditioner preconditioner = LinearPreconditioner::BlockJacobi;
   /// The factorization of Projective Dynamics' matrix and of the coordinate preconditioner.
   CholeskyBackend cholesky = CholeskyBackend::CholmodSupernodal;
