@@ -61,20 +61,16 @@ void VertexBlockDescentStepper::accelerate(const ImplicitStepSolver::Iterate& at
 {
   if (at.restart || Current.size() != at.x.size())
   {
-    Omega = LastOmega = 1.0; // the first sweep of a step is taken as it is
+    Omega = 1.0; // the first sweep of a step is taken as it is
     Previous = at.x;
     Current = at.x;
     return;
   }
-  if (at.x == Current)
-  {
-    Omega = LastOmega; // the same iteration asked again: the same omega and previous iterate
-  }
-  else
+  if (at.x != Current) // else the same iteration asked again: the same omega and previous iterate
   {
     Previous.swap(Current);
     Current = at.x;
-    LastOmega = Omega = Omega == 1.0 ? 2.0 / (2.0 - Rho * Rho) : 4.0 / (4.0 - Rho * Rho * Omega);
+    Omega = Omega == 1.0 ? 2.0 / (2.0 - Rho * Rho) : 4.0 / (4.0 - Rho * Rho * Omega);
   }
   parallelFor(at.x.size(), 4096, [&](std::size_t i) {
     const Vec3 accelerated = Omega * (at.x[i] + direction[i] - Previous[i]) + Previous[i];

@@ -24,8 +24,7 @@
 // sweep, x+ = omega (sweep - x_prev) + x_prev, with omega from the assumed spectral radius rho
 // (ImplicitSettings::chebyshevRadius; omega_1 = 1, omega_2 = 2 / (2 - rho^2), omega_k+1 =
 // 4 / (4 - rho^2 omega_k)), and the result filtered per point like the sweep. It is not monotone
-// in Phi: the solve's line search takes what lowers it. A soft box resting on the floor at 1/30 s
-// needs about a third of the plain sweeps at rho 0.95. Not built: the paper's own collision
+// in Phi: the solve's line search takes what lowers it. Not built: the paper's own collision
 // handling (contacts are the solve's active set).
 #pragma once
 
@@ -68,7 +67,7 @@ private:
   // Chebyshev's state within a step: the iterate before at.x, at.x itself (a direction asked
   // for again at the same x, after points were held, reuses them) and omega.
   std::vector<Vec3> Previous, Current;
-  double Omega = 1.0, LastOmega = 1.0;
+  double Omega = 1.0;
   ImplicitConvergence Convergence;
 };
 
