@@ -28,13 +28,11 @@ std::unique_ptr<softbody::Simulation> MakeGpuSimulation(const softbody::BodyDesc
   const softbody::SceneSettings& scene, std::string& renderer, std::string& whyNot)
 {
 #ifdef SOFTBODY_WITH_GPU
-  // Built on the body renumbered for locality, like the CPU stepper (mass_spring_reordered.h),
-  // with its floor where the CPU's contacts hold points (floorPassScene).
-  const softbody::SceneSettings gpuScene = softbody::floorPassScene(body.mesh, scene);
-  return softbody::buildReorderedMassSpring(body, gpuScene, softbody::kDefaultVertexOrdering,
+  // Built on the body renumbered for locality, like the CPU stepper (mass_spring_reordered.h).
+  return softbody::buildReorderedMassSpring(body, scene, softbody::kDefaultVertexOrdering,
     [&](softbody::BodyDescription stored) -> std::unique_ptr<softbody::Simulation> {
       std::unique_ptr<softbody::gpu::MassSpringGpuSimulation> simulation =
-        softbody::gpu::tryCreateGpuMassSpring(stored, gpuScene, whyNot);
+        softbody::gpu::tryCreateGpuMassSpring(stored, scene, whyNot);
       if (simulation)
       {
         renderer = simulation->glRenderer();
@@ -90,15 +88,6 @@ bool BuildMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& 
     if (built.Simulation)
     {
       built.DeviceUsed = vtkSoftBodyParameters::DEVICE_GPU_EGL;
-      const softbody::CollisionSettings& c = settings.Scene.collisions;
-      if (settings.Scene.floorActive() &&
-        (c.staticFriction > 0.0 || c.dynamicFriction > 0.0 || c.restitution > 0.0))
-      {
-        built.DeviceWarning = "Device GPU (EGL): the GPU's floor is frictionless and inelastic; "
-                              "StaticFriction, DynamicFriction and Restitution act on the CPU "
-                              "only (set them to 0 to silence this, or use Device CPU).";
-        warn(built.DeviceWarning);
-      }
     }
     else
     {

@@ -89,8 +89,10 @@ void toArray(const Vec3& v, double (&out)[3])
 
 } // namespace
 
-MassSpringDevice::MassSpringDevice(const MassSpringSetup& setup, const StepPlan& plan)
+MassSpringDevice::MassSpringDevice(
+  const MassSpringSetup& setup, const StepPlan& plan, const FloorContact& floor)
   : Scene(setup.scene)
+  , Floor(floor)
   , LimitsStrain(plan.runs(Stage::StrainLimit))
   , HasFloor(plan.runs(Stage::Floor))
   , VertexCount(setup.topology.vertexCount)
@@ -116,6 +118,10 @@ MassSpringDevice::MassSpringDevice(const MassSpringSetup& setup, const StepPlan&
   Positions = vectorBuffer("positions", VertexCount);
   Velocities = vectorBuffer("velocities", VertexCount);
   Accelerations = vectorBuffer("accelerations", VertexCount);
+  if (HasFloor)
+  {
+    StartPositions = vectorBuffer("step start positions", VertexCount);
+  }
   if (Scene.integrator == Integrator::Midpoint)
   {
     MidPositions = vectorBuffer("midpoint positions", VertexCount);
@@ -277,26 +283,36 @@ void MassSpringDevice::limitStrain(double h)
   Clock.end();
 }
 
-void MassSpringDevice::resolveFloor()
+void MassSpringDevice::resolveFloor(double h)
 {
   Clock.begin(static_cast<std::size_t>(Stage::Floor));
   const ComputeProgram& floor = Kernels.floorContacts;
   floor.use();
   floor.bind("InverseMasses", InverseMasses);
+  floor.bind("StartPositions", StartPositions);
   floor.bind("Positions", Positions);
   floor.bind("Velocities", Velocities);
   double origin[3], normal[3];
-  toArray(Scene.floor.origin, origin);
-  toArray(Scene.floor.normal, normal);
+  toArray(Floor.plane.origin, origin);
+  toArray(Floor.plane.normal, normal);
   floor.set("floorOrigin", origin);
   floor.set("floorNormal", normal);
+  floor.set("thickness", Floor.thickness);
+  floor.set("h", h);
+  floor.set("staticFriction", Scene.collisions.staticFriction);
+  floor.set("dynamicFriction", Scene.collisions.dynamicFriction);
+  floor.set("restitution", Scene.collisions.restitution);
   floor.dispatch(VertexCount);
   Clock.end();
 }
 
 void MassSpringDevice::step(double h, double kick)
 {
-  // Core's stage order (MassSpringSimulation::stepOnce).
+  // Core's stage order (MassSpringSimulation::takeStep).
+  if (HasFloor)
+  {
+    StartPositions.copyFrom(Positions); // the contacts are swept from the step's start
+  }
   integrate(h, kick);
   if (LimitsStrain)
   {
@@ -304,7 +320,7 @@ void MassSpringDevice::step(double h, double kick)
   }
   if (HasFloor)
   {
-    resolveFloor();
+    resolveFloor(h);
   }
 }
 

@@ -10,6 +10,7 @@
 #include "softbody/common/step_plan.h"
 #include "softbody/gpu/mass_spring_gpu_simulation.h" // DivergenceProbe
 #include "softbody/massspring/mass_spring_setup.h"
+#include "softbody/massspring/tet_body_contacts.h"
 
 #include <initializer_list>
 #include <utility>
@@ -23,8 +24,9 @@ class MassSpringDevice
 public:
   /// Uploads the body's constants and its rest state. Throws GpuUnavailableError when a
   /// kernel does not compile or a buffer does not fit.
-  /// `plan` (core's planMassSpring) says which stages step() runs.
-  MassSpringDevice(const MassSpringSetup& setup, const StepPlan& plan);
+  /// `plan` (core's planMassSpring) says which stages step() runs; `floor` is the floor's
+  /// contact as the CPU's detector has it (used when the plan has the floor).
+  MassSpringDevice(const MassSpringSetup& setup, const StepPlan& plan, const FloorContact& floor);
 
   void uploadState(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities);
   void downloadState(std::vector<Vec3>& positions, std::vector<Vec3>& velocities) const;
@@ -47,9 +49,10 @@ private:
     std::initializer_list<std::pair<const char*, const StorageBuffer*>> extraBuffers,
     std::initializer_list<std::pair<const char*, double>> stepSizes);
   void limitStrain(double h);
-  void resolveFloor();
+  void resolveFloor(double h);
 
   SceneSettings Scene;
+  FloorContact Floor;
   bool LimitsStrain = false; ///< the plan's decisions, taken once
   bool HasFloor = false;
   std::size_t VertexCount = 0;
@@ -71,6 +74,7 @@ private:
   // State and work arrays (dvec4 per vertex or element).
   StorageBuffer Positions;
   StorageBuffer Velocities;
+  StorageBuffer StartPositions; ///< at the step's start, for the floor's contacts (swept, friction)
   StorageBuffer MidPositions;
   StorageBuffer MidVelocities;
   StorageBuffer Accelerations;

@@ -21,6 +21,7 @@ struct MassSpringGpuSimulation::Prepared
 {
   MassSpringSetup setup;
   StepPlan plan; ///< core's mass-spring plan plus the transfers; timings refreshed on demand
+  FloorContact floor; ///< as the CPU stepper's detector meets it
 };
 
 namespace
@@ -34,23 +35,26 @@ double secondsSince(std::chrono::steady_clock::time_point start)
 } // namespace
 
 MassSpringGpuSimulation::MassSpringGpuSimulation(const BodyDescription& body, const SceneSettings& scene)
-  : Body(std::make_unique<Prepared>(Prepared{ prepareMassSpring(body, scene), {} }))
+  : Body(std::make_unique<Prepared>(Prepared{ prepareMassSpring(body, scene), {}, {} }))
   , State(restState(Body->setup))
 {
   Body->plan = planMassSpring(Body->setup);
   Body->plan.add(Stage::Transfers);
-  // The floor here is already where contacts hold points (floorPassScene): start on it as the
-  // CPU stepper does.
-  if (Body->setup.scene.floorActive())
+  const SceneSettings& prepared = Body->setup.scene;
+  if (prepared.floorActive())
   {
-    liftBodiesOntoPlane(Body->setup.mesh, Body->setup.masses.inverseMass, Body->setup.scene.floor,
-      State.positions);
+    // Start where the CPU stepper starts the body: lifted onto the plane its contacts hold
+    // points on, the floor raised by the contact thickness (the margin).
+    Body->floor = floorContactOf(Body->setup.mesh, prepared);
+    FloorPlane holding = prepared.floor;
+    holding.origin += Body->floor.thickness * prepared.floor.normal;
+    liftBodiesOntoPlane(Body->setup.mesh, Body->setup.masses.inverseMass, holding, State.positions);
   }
   Gl = SharedGlContext::acquire(); // throws GpuUnavailableError where no context can be made
   try
   {
     Gl->run([this] {
-      Device = std::make_unique<MassSpringDevice>(Body->setup, Body->plan);
+      Device = std::make_unique<MassSpringDevice>(Body->setup, Body->plan, Body->floor);
       Device->uploadState(State.positions, State.velocities);
     });
   }

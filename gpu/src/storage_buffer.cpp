@@ -86,4 +86,15 @@ void StorageBuffer::download(void* data, std::size_t bytes) const
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
 }
 
+void StorageBuffer::copyFrom(const StorageBuffer& source)
+{
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // as download: shader writes before the copy
+  glBindBuffer(GL_COPY_READ_BUFFER, source.Id);
+  glBindBuffer(GL_COPY_WRITE_BUFFER, Id);
+  glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0,
+    static_cast<GLsizeiptr>(std::min(source.Bytes, Bytes)));
+  glBindBuffer(GL_COPY_READ_BUFFER, 0);
+  glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
+}
+
 } // namespace softbody::gpu

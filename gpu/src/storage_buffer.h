@@ -30,6 +30,9 @@ public:
   void upload(const void* data, std::size_t bytes);
   /// Waits for the kernels that wrote the buffer, then copies it out.
   void download(void* data, std::size_t bytes) const;
+  /// Copies `source` (as many bytes as both hold) into this buffer on the GPU, after the
+  /// kernels that wrote it.
+  void copyFrom(const StorageBuffer& source);
 
   template <typename T>
   static StorageBuffer fromVector(const std::string& name, const std::vector<T>& values)

@@ -138,8 +138,6 @@ int main(int argc, char** argv)
     // on the CPU below). The public meshes' slivers need too many steps for a smoke run.
     const bool landing = options.smoke && named.name.rfind("box_", 0) == 0;
     const SceneSettings scene = landing ? bench::landingScene(named.mesh) : sceneFor(named.mesh);
-    // The GPU's own floor pass where the CPU's contacts hold points (the filter does the same).
-    const SceneSettings gpuScene = floorPassScene(named.mesh, scene);
     // Both steppers on the same body, first as given, then renumbered for locality; their
     // outputs come back in input order either way (mass_spring_reordered.h).
     for (VertexOrdering ordering : { VertexOrdering::Input, kDefaultVertexOrdering })
@@ -148,10 +146,10 @@ int main(int argc, char** argv)
       std::unique_ptr<Simulation> gpuSimulation;
       try
       {
-        gpuSimulation = buildReorderedMassSpring(body, gpuScene, ordering,
+        gpuSimulation = buildReorderedMassSpring(body, scene, ordering,
           [&](BodyDescription stored) -> std::unique_ptr<Simulation> {
             std::unique_ptr<gpu::MassSpringGpuSimulation> made =
-              gpu::tryCreateGpuMassSpring(stored, gpuScene, whyNot);
+              gpu::tryCreateGpuMassSpring(stored, scene, whyNot);
             if (made)
             {
               renderer = made->glRenderer();

@@ -13,10 +13,7 @@ int main()
     f->Filter->SetEndTime(0.2);
     f->Filter->SetFrameInterval(0.02);
     f->Filter->SetIntegrator(vtkSoftBodyFilter::VERLET);
-    f->Filter->SetStrainLimit(1.1);
-    // The GPU's floor is frictionless and inelastic (the CPU's contacts are too, so).
-    f->Filter->SetStaticFriction(0.0);
-    f->Filter->SetDynamicFriction(0.0);
+    f->Filter->SetStrainLimit(1.1); // friction and restitution at the filter's defaults
   }
   gpu.Filter->SetDevice(vtkSoftBodyFilter::DEVICE_GPU_EGL);
 

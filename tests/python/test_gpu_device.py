@@ -1,7 +1,10 @@
 """python.gpu_device: Device = 'GPU (EGL)' from pvpython runs the same simulation as the CPU.
 
-The jelly falls for 0.4 s on both devices; the GPU's points must match the CPU's within 1e-9 of
-the body size (on Mesa's llvmpipe they are bitwise equal). Field data Device and GLRenderer say
+The jelly falls onto the floor and lands on both devices at the default settings (floor
+friction included); the GPU's points must match the CPU's within 1e-9 of the body size on
+Mesa's llvmpipe (they are bitwise equal there), within 2e-4 on a hardware GPU, whose fused
+multiply-adds can turn a contact's stick-or-slide decision at its threshold (unit.gpu_* tests
+state the measured bounds). The GPU run gives no warning. Field data Device and GLRenderer say
 where it ran. Where no EGL/OpenGL 4.3 context can be made the filter falls back to the CPU with
 a warning: that is checked, and the test reports SKIP (77)."""
 
@@ -17,11 +20,11 @@ args = sbt.parse_args(__doc__)
 LoadPlugin(args.plugin, remote=False, ns=globals())
 
 reader = XMLUnstructuredGridReader(FileName=[os.path.join(args.data_dir, "jelly.vtu")])
-# Frictionless: the GPU's floor is (the CPU's contacts then match it).
-cpu = SoftBody(Input=reader, EndTime=0.4, StaticFriction=0.0, DynamicFriction=0.0)
-gpu = SoftBody(Input=reader, EndTime=0.4, StaticFriction=0.0, DynamicFriction=0.0, Device="GPU (EGL)")
-x_cpu = sbt.points_of(sbt.output_at(cpu, 0.4))
-gpu_mesh = sbt.output_at(gpu, 0.4)
+END = 0.8
+cpu = SoftBody(Input=reader, EndTime=END)
+gpu = SoftBody(Input=reader, EndTime=END, Device="GPU (EGL)")
+x_cpu = sbt.points_of(sbt.output_at(cpu, END))
+gpu_mesh = sbt.output_at(gpu, END)
 device = gpu_mesh.GetFieldData().GetAbstractArray("Device").GetValue(0)
 renderer = gpu_mesh.GetFieldData().GetAbstractArray("GLRenderer").GetValue(0)
 print(f"Device {device!r}, GLRenderer {renderer!r}")
@@ -34,7 +37,17 @@ if device != "GPU (EGL)":
 x_gpu = sbt.points_of(gpu_mesh)
 size = float(np.max(x_cpu.max(axis=0) - x_cpu.min(axis=0)))
 difference = float(np.abs(x_gpu - x_cpu).max())
-sbt.check(difference <= 1e-9 * size, f"GPU matches CPU after 0.4 s (max difference {difference:.2e} m)")
+bound = 1e-9 if "llvmpipe" in renderer or "softpipe" in renderer else 2e-4
+sbt.check(difference <= bound * size,
+          f"GPU matches CPU after {END} s at the defaults (max difference {difference:.2e} m, bound {bound:g} of {size:.3f} m)")
 sbt.check(renderer != "", "GLRenderer names the renderer")
 x_rest = sbt.points_of(sbt.output_at(gpu, 0.0))
 sbt.check(np.abs(x_gpu - x_rest).max() > 0.1, "the body fell (so the comparison is not of rest shapes)")
+floor_gap = float(x_gpu[:, 2].min())
+sbt.check(abs(floor_gap) < 0.05 * size, f"the body reached the floor (lowest point at {floor_gap:.2e} m, the contact margin)")
+frictionless = SoftBody(Input=reader, EndTime=END, StaticFriction=0.0, DynamicFriction=0.0)
+friction_moves = float(np.abs(sbt.points_of(sbt.output_at(frictionless, END)) - x_cpu).max())
+sbt.check(friction_moves > 1e-6 * size, f"friction acted in the compared run (moves points by {friction_moves:.2e} m)")
+warnings = gpu_mesh.GetFieldData().GetAbstractArray("Warnings")
+texts = [warnings.GetValue(i) for i in range(warnings.GetNumberOfValues())] if warnings else []
+sbt.check(not any("GPU" in t for t in texts), f"no device warning at the defaults ({texts!r})")

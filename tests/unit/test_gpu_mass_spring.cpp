@@ -7,6 +7,7 @@
 #include "softbody/massspring/mass_spring_plan.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
+#include "gpu_test_support.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -23,32 +24,9 @@ using namespace softbody;
 namespace
 {
 
-/// Largest |x_gpu - x_cpu| over the body's size while the motion is smooth (free fall, before
-/// any threshold-triggered stage acts), after the GPU path has taken its steps in double
-/// precision too. Measured: 0 (bitwise equal) on Mesa llvmpipe, 1e-16 on an NVIDIA H200.
-constexpr double kRelativeTolerance = 1e-9;
-
-/// Bounds once the stages that act on a threshold have acted (the strain limiter past its
-/// limit, floor contact). Mesa's llvmpipe rounds every double operation as the CPU does and
-/// stays bitwise equal (measured), so the tight bound holds there. A hardware GPU fuses
-/// multiply-adds and rounds sqrt and division its own way: a 1-ulp difference then decides
-/// differently for a point right at a threshold, and that different decision (a limiter
-/// correction, a contact) is what separates the runs. Measured on an NVIDIA H200 after 532-579
-/// steps: up to 4.4e-5 of the size and 0.021 m/s. A wrong kernel is off by far more (a
-/// dropped term moves the body by millimetres within a few steps: tests/mutation).
-struct Tolerance
-{
-  double position; ///< of the body's size
-  double velocity; ///< m/s
-};
-template <typename GpuSimulation>
-Tolerance afterThresholdStages(const GpuSimulation& gpu)
-{
-  const std::string renderer = gpu.glRenderer();
-  const bool software = renderer.find("llvmpipe") != std::string::npos ||
-    renderer.find("softpipe") != std::string::npos;
-  return software ? Tolerance{ kRelativeTolerance, 1e-9 } : Tolerance{ 2e-4, 0.1 };
-}
+using test::afterThresholdStages;
+using test::kGpuRelativeTolerance;
+using Tolerance = test::GpuTolerance;
 
 BodyDescription smallBody(bool pinTop = false)
 {
@@ -68,13 +46,16 @@ BodyDescription smallBody(bool pinTop = false)
 
 SceneSettings busyScene(Integrator integrator)
 {
-  // Every stage on: volume term (Poisson 0.3), strain limit and floor contact. The limit is
-  // low enough to act: without it the falling body stretches its springs to ~1.023 on impact
-  // (a limit of 1.05 never fires).
+  // Every stage on: volume term (Poisson 0.3), strain limit and floor contact with the
+  // filter's default friction (StaticFriction = DynamicFriction = 0.3, Restitution 0). The
+  // limit is low enough to act: without it the falling body stretches its springs to ~1.023
+  // on impact (a limit of 1.05 never fires).
   SceneSettings scene;
   scene.integrator = integrator;
   scene.floorEnabled = true;
   scene.strainLimit = 1.005;
+  scene.collisions.staticFriction = 0.3;
+  scene.collisions.dynamicFriction = 0.3;
   return scene;
 }
 
@@ -104,31 +85,6 @@ std::vector<Vec3> cpuPositions(const BodyDescription& body, const SceneSettings&
   simulation.advance(endTime);
   return simulation.positions();
 }
-
-/// The GPU stepper, or null (and the test skips) where no context can be made. Any other
-/// failure (a kernel that does not compile, say) fails the test: it is a bug, not a machine
-/// without a GPU.
-std::unique_ptr<gpu::MassSpringGpuSimulation> makeGpu(
-  const BodyDescription& body, const SceneSettings& scene)
-{
-  std::string whyNot;
-  // Its floor where the CPU's contacts hold points, as the filter builds it.
-  auto simulation = gpu::tryCreateGpuMassSpring(body, floorPassScene(body.mesh, scene), whyNot);
-  if (!simulation)
-  {
-    std::cerr << "GPU unavailable: " << whyNot << "\n";
-    const bool noContext = whyNot.rfind("No OpenGL", 0) == 0;
-    EXPECT_TRUE(noContext) << "the GPU stepper failed for another reason than a missing context";
-  }
-  return simulation;
-}
-
-#define MAKE_GPU_OR_SKIP(name, body, scene)                                                       \
-  auto name = makeGpu(body, scene);                                                               \
-  if (!name)                                                                                      \
-  {                                                                                               \
-    GTEST_SKIP() << "no EGL / OpenGL 4.3 context here";                                          \
-  }
 
 class GpuAgainstCpu : public ::testing::TestWithParam<Integrator>
 {
@@ -165,7 +121,7 @@ TEST_P(GpuAgainstCpu, SameStatesAfterManyStepsWithEveryStage)
               << "\n";
     // The first frame is free fall: smooth, so tight on every GPU.
     const Tolerance bound =
-      t < 0.03 ? Tolerance{ kRelativeTolerance, 1e-9 } : afterThresholdStages(*gpuSimulation);
+      t < 0.03 ? Tolerance{ kGpuRelativeTolerance, 1e-9 } : afterThresholdStages(*gpuSimulation);
     EXPECT_LE(dx / size, bound.position) << gpuSimulation->glRenderer();
     EXPECT_LE(dv, bound.velocity) << gpuSimulation->glRenderer();
   }
@@ -187,6 +143,11 @@ TEST_P(GpuAgainstCpu, SameStatesAfterManyStepsWithEveryStage)
   SceneSettings noFloor = scene;
   noFloor.floorEnabled = false;
   EXPECT_GT(test::maxDistance(cpuPositions(body, noFloor, 0.06), cpuSimulation.positions()) / size, 1e-3);
+  SceneSettings noFriction = scene;
+  noFriction.collisions.staticFriction = noFriction.collisions.dynamicFriction = 0.0;
+  const double frictionMoves = test::maxDistance(cpuPositions(body, noFriction, 0.06), cpuSimulation.positions()) / size;
+  std::cout << "friction moves points by " << frictionMoves << " of the size\n";
+  EXPECT_GT(frictionMoves, 1e-5);
   const std::vector<double> gpuRatios = gpuSimulation->tetVolumeRatios();
   const std::vector<double> cpuRatios = cpuSimulation.tetVolumeRatios();
   ASSERT_EQ(gpuRatios.size(), cpuRatios.size());

@@ -23,13 +23,6 @@
 namespace softbody
 {
 
-SceneSettings floorPassScene(const TetMesh& mesh, const SceneSettings& scene)
-{
-  SceneSettings lifted = scene;
-  lifted.floor = floorHoldingPlane(mesh, scene);
-  return lifted;
-}
-
 /// Accelerations a_i = g + w_i (f_i + loads_i) for free points, 0 for pinned and massless ones
 /// and along the components conditions hold.
 class MassSpringSimulation::Forces final : public AccelerationEvaluator

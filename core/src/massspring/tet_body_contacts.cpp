@@ -72,17 +72,11 @@ CollisionGeometry tetBodyGeometry(const TetMesh& mesh, const CollisionSettings& 
   return g;
 }
 
-FloorPlane floorHoldingPlane(const TetMesh& mesh, const Scene& scene)
+FloorContact floorContactOf(const TetMesh& mesh, const Scene& scene)
 {
-  FloorPlane plane = scene.floor;
-  if (!scene.floorActive() || !(scene.floor.normal.norm() > 0.0))
-  {
-    return plane;
-  }
   const CollisionDetector detector(tetBodyGeometry(mesh, scene.collisions), scene.collisions,
-    false, scene.floor);
-  plane.origin += detector.margin() * scene.floor.normal.normalized();
-  return plane;
+    scene.floorActive(), scene.floor);
+  return FloorContact{ detector.floor(), detector.margin() };
 }
 
 std::size_t liftBodiesOntoPlane(const TetMesh& mesh, const std::vector<double>& inverseMass,

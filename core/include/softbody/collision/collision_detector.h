@@ -80,6 +80,7 @@ public:
     double h, ContactSet& out);
 
   double margin() const { return Margin; } ///< resolved (automatic replaced) [m]
+  const FloorPlane& floor() const { return Floor; } ///< with its normal normalized
   const CollisionGeometry& geometry() const { return Geometry; }
   const DetectionStats& stats() const { return Stats; }
   const CollisionSettings& settings() const { return Settings; }

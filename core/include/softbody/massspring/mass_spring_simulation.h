@@ -23,13 +23,6 @@
 namespace softbody
 {
 
-/// The scene as a stepper with only its own floor pass sees it (the GPU stepper: an inelastic,
-/// frictionless projection onto the plane): the floor lifted by the collision margin of `mesh`
-/// (the one MassSpringSimulation's contacts keep), so both rest a body at the same height.
-/// Unchanged without a floor or with Collisions Off. Throws InvalidInputError like
-/// MassSpringSimulation for bad collision settings.
-SceneSettings floorPassScene(const TetMesh& mesh, const SceneSettings& scene);
-
 class MassSpringSimulation final : public Simulation
 {
 public:

@@ -21,10 +21,19 @@ std::vector<std::int32_t> bodyOfPoints(const TetMesh& mesh, std::int32_t& bodies
 /// connected body; every point collides, or only the surface vertices with self-collision.
 CollisionGeometry tetBodyGeometry(const TetMesh& mesh, const CollisionSettings& collisions);
 
-/// The plane where contacts hold points: the floor lifted by the collision margin of `mesh`
-/// (automatic or given); the floor itself where it is not active. Throws InvalidInputError for
-/// bad collision settings, as the detector does.
-FloorPlane floorHoldingPlane(const TetMesh& mesh, const Scene& scene);
+/// The floor as the explicit integrators' contacts meet it (CollisionDetector's floor
+/// candidates, then respondToContacts): what a stepper that resolves the floor alone, in its
+/// own pass (the GPU's), needs to give the same contacts. Tet bodies have no particle radii, so
+/// every point's contact thickness is the collision margin.
+struct FloorContact
+{
+  FloorPlane plane;       ///< the detector's floor (its normal normalized again, as it does)
+  double thickness = 0.0; ///< C = n . (x - plane) - thickness >= 0 [m]
+};
+
+/// The floor contact of `mesh` in `scene` (its margin automatic or given). Throws
+/// InvalidInputError for bad collision settings, as the detector does.
+FloorContact floorContactOf(const TetMesh& mesh, const Scene& scene);
 
 /// Pre-stabilization (Macklin et al. 2014, initial penetration): each connected body with a
 /// point below `plane` is lifted rigidly along its normal by its deepest penetration, so it
