@@ -1,5 +1,7 @@
 #include "mass_spring_device.h"
 
+#include "softbody/material/isotropic_elasticity.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -75,6 +77,41 @@ std::vector<std::int32_t> signedVertexEdges(const Topology& topology)
   return flat;
 }
 
+/// The continuum's per-tet constants as tet_elastic_forces.comp reads them: 4 shape gradients,
+/// then (V0, law mu, law lambda, alpha) and (linear mu, linear lambda, damping time, 0).
+std::vector<double> packShapeGradients(const TetElasticConstants& c)
+{
+  std::vector<double> packed(16 * c.shapeGradients.size(), 0.0);
+  for (std::size_t t = 0; t < c.shapeGradients.size(); ++t)
+  {
+    for (std::size_t k = 0; k < 4; ++k)
+    {
+      for (int d = 0; d < 3; ++d)
+      {
+        packed[16 * t + 4 * k + static_cast<std::size_t>(d)] = c.shapeGradients[t][k](d);
+      }
+    }
+  }
+  return packed;
+}
+
+std::vector<double> packTetLaws(const TetElasticConstants& c)
+{
+  std::vector<double> packed(8 * c.restVolume.size(), 0.0);
+  for (std::size_t t = 0; t < c.restVolume.size(); ++t)
+  {
+    double* law = &packed[8 * t];
+    law[0] = c.restVolume[t];
+    law[1] = c.law[t].mu;
+    law[2] = c.law[t].lambda;
+    law[3] = StableNeoHookeanLaw::alpha(c.law[t]);
+    law[4] = c.linear[t].mu;
+    law[5] = c.linear[t].lambda;
+    law[6] = c.damped ? c.dampingTime[t] : 0.0;
+  }
+  return packed;
+}
+
 StorageBuffer vectorBuffer(const char* name, std::size_t count)
 {
   return StorageBuffer(name, 4 * sizeof(double) * count);
@@ -99,6 +136,7 @@ MassSpringDevice::MassSpringDevice(
   , EdgeCount(setup.topology.edges.size())
   , TetCount(setup.topology.tets.size())
   , HasVolumeTerm(setup.constants.hasVolumeTerm)
+  , Continuum(isContinuum(setup.model))
   , Clock(static_cast<std::size_t>(Stage::Count))
 {
   static_assert(sizeof(Edge) == 2 * sizeof(std::int32_t), "Edge must be two packed int32 (ivec2)");
@@ -114,6 +152,16 @@ MassSpringDevice::MassSpringDevice(
   VertexEdges = StorageBuffer::fromVector("vertex edges", signedVertexEdges(topology));
   VertexTetCorners = StorageBuffer::fromVector("vertex tet corners", flattenCsr(topology.vertexTetCorners));
   InverseMasses = StorageBuffer::fromVector("inverse masses", setup.masses.inverseMass);
+  if (Continuum)
+  {
+    if (setup.model != MaterialModel::StableNeoHookean)
+    {
+      throw std::logic_error("the GPU has only Stable Neo-Hookean tets"); // tryCreateGpuMassSpring refuses
+    }
+    ShapeGradients = StorageBuffer::fromVector("shape gradients", packShapeGradients(setup.tetConstants));
+    TetLaws = StorageBuffer::fromVector("tet materials", packTetLaws(setup.tetConstants));
+    CornerForces = vectorBuffer("tet corner forces", 4 * TetCount);
+  }
 
   Positions = vectorBuffer("positions", VertexCount);
   Velocities = vectorBuffer("velocities", VertexCount);
@@ -160,6 +208,43 @@ void MassSpringDevice::downloadState(
 void MassSpringDevice::computeAccelerations(const StorageBuffer& x, const StorageBuffer& v)
 {
   Clock.begin(static_cast<std::size_t>(Stage::Forces));
+  if (Continuum)
+  {
+    tetElasticAccelerations(x, v);
+  }
+  else
+  {
+    springNetworkAccelerations(x, v);
+  }
+  Clock.end();
+}
+
+void MassSpringDevice::tetElasticAccelerations(const StorageBuffer& x, const StorageBuffer& v)
+{
+  const ComputeProgram& tets = Kernels.tetElasticForces;
+  tets.use();
+  tets.bind("Tets", Tets);
+  tets.bind("ShapeGradients", ShapeGradients);
+  tets.bind("TetLaws", TetLaws);
+  tets.bind("InPositions", x);
+  tets.bind("InVelocities", v);
+  tets.bind("CornerForces", CornerForces);
+  tets.dispatch(TetCount);
+
+  const ComputeProgram& gather = Kernels.gatherCornerForces;
+  gather.use();
+  gather.bind("CornerForces", CornerForces);
+  gather.bind("VertexTetCorners", VertexTetCorners);
+  gather.bind("InverseMasses", InverseMasses);
+  gather.bind("Accelerations", Accelerations);
+  double gravity[3];
+  toArray(Scene.gravity, gravity);
+  gather.set("gravity", gravity);
+  gather.dispatch(VertexCount);
+}
+
+void MassSpringDevice::springNetworkAccelerations(const StorageBuffer& x, const StorageBuffer& v)
+{
   const ComputeProgram& springs = Kernels.springForces;
   springs.use();
   springs.bind("Edges", Edges);
@@ -196,7 +281,6 @@ void MassSpringDevice::computeAccelerations(const StorageBuffer& x, const Storag
   toArray(Scene.gravity, gravity);
   gather.set("gravity", gravity);
   gather.dispatch(VertexCount);
-  Clock.end();
 }
 
 void MassSpringDevice::runUpdate(const ComputeProgram& program,

@@ -42,6 +42,8 @@ public:
 private:
   /// Accelerations at the state (x, v) into Accelerations.
   void computeAccelerations(const StorageBuffer& x, const StorageBuffer& v);
+  void springNetworkAccelerations(const StorageBuffer& x, const StorageBuffer& v);
+  void tetElasticAccelerations(const StorageBuffer& x, const StorageBuffer& v);
   void integrate(double h, double kick);
   /// One integrator update kernel over the vertices: it reads the state and the accelerations
   /// (bound here) plus `extraBuffers`, with its step-size uniforms.
@@ -59,6 +61,7 @@ private:
   std::size_t EdgeCount = 0;
   std::size_t TetCount = 0;
   bool HasVolumeTerm = false;
+  bool Continuum = false; ///< finite-element tets (Stable Neo-Hookean) instead of the network
 
   MassSpringKernels Kernels;
   StageClock Clock;
@@ -71,6 +74,8 @@ private:
   StorageBuffer VertexEdges;      ///< CSR [offsets | signed edge items]
   StorageBuffer VertexTetCorners; ///< CSR [offsets | 4 tet + corner]
   StorageBuffer InverseMasses;    ///< double per vertex
+  StorageBuffer ShapeGradients;   ///< 4 dvec4 per tet (continuum)
+  StorageBuffer TetLaws;          ///< 2 dvec4 per tet (continuum; see tet_elastic_forces.comp)
   // State and work arrays (dvec4 per vertex or element).
   StorageBuffer Positions;
   StorageBuffer Velocities;
@@ -79,6 +84,7 @@ private:
   StorageBuffer MidVelocities;
   StorageBuffer Accelerations;
   StorageBuffer SpringForces;
+  StorageBuffer CornerForces; ///< 4 dvec4 per tet (continuum)
   StorageBuffer TetScales; ///< double per tet
   StorageBuffer EdgeCorrections;
   StorageBuffer Partials; ///< one dvec4 per work group of the divergence check

@@ -11,6 +11,7 @@
 #include "softbody/massspring/mass_spring_plan.h"
 #include "softbody/massspring/mass_spring_setup.h"
 #include "softbody/massspring/tet_body_contacts.h"
+#include "softbody/material/tet_elastic_forces.h"
 
 #include <chrono>
 
@@ -157,7 +158,15 @@ std::vector<double> MassSpringGpuSimulation::tetVolumeRatios() const
 double MassSpringGpuSimulation::elasticEnergy() const
 {
   const MassSpringSetup& s = Body->setup;
-  return softbody::elasticEnergy(s.topology, s.constants, state().positions);
+  return isContinuum(s.model) ? tetElasticEnergy(s.topology, s.tetConstants, state().positions)
+                              : softbody::elasticEnergy(s.topology, s.constants, state().positions);
+}
+
+TetStressField MassSpringGpuSimulation::stressField() const
+{
+  // Only for output frames: computed on the host from the downloaded positions.
+  const MassSpringSetup& s = Body->setup;
+  return isContinuum(s.model) ? tetStressField(s.topology, s.tetConstants, state().positions) : TetStressField{};
 }
 
 double MassSpringGpuSimulation::stepSize() const
@@ -208,9 +217,10 @@ std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(
     whyNot = "the GPU backend runs fixed steps only, and TimeStepMode is Error-controlled.";
     return nullptr;
   }
-  if (isContinuum(body.material.model))
+  if (isContinuum(body.material.model) && body.material.model != MaterialModel::StableNeoHookean)
   {
-    whyNot = std::string("the GPU backend has only the Spring Network's forces, not MaterialModel ") +
+    // Corotated's stress needs F's rotation (an SVD per tet), which the GPU does not compute yet.
+    whyNot = std::string("the GPU backend has the Spring Network and Stable Neo-Hookean, not MaterialModel ") +
       materialModelName(body.material.model) + ".";
     return nullptr;
   }

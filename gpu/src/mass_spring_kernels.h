@@ -14,6 +14,8 @@ struct MassSpringKernels
   ComputeProgram springForces;
   ComputeProgram volumeForces;
   ComputeProgram gatherAccelerations;
+  ComputeProgram tetElasticForces; ///< Stable Neo-Hookean tets
+  ComputeProgram gatherCornerForces;
   ComputeProgram eulerStep;
   ComputeProgram midpointPredict;
   ComputeProgram midpointStep;

@@ -50,7 +50,8 @@ public:
   const std::vector<double>& inverseMasses() const override;
   double totalMass() const override;
   std::vector<double> tetVolumeRatios() const override;
-  double elasticEnergy() const override; ///< the spring network's, from the downloaded positions
+  double elasticEnergy() const override; ///< the body's material's, from the downloaded positions
+  TetStressField stressField() const override; ///< Stable Neo-Hookean tets; empty for the network
   double stepSize() const override;
   double estimatedStableStep() const override;
   const std::vector<std::string>& warnings() const override;

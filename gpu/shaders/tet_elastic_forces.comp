@@ -1,0 +1,169 @@
+// Pass 1, finite-element tets under Stable Neo-Hookean (core: tet_elastic_forces.cpp's
+// cornerForces with StableNeoHookeanLaw::energyAndStressOf and viscousStress). One invocation
+// per tet:
+//   F = sum_c x_c g_c^T,  P = mu (1 - 1 / (I_C + 1)) F + lambda (J - alpha) cof(F)
+//     + beta F (2 mu_lin D + lambda_lin tr(D) I),  D = sym(F^T Fdot),  Fdot = sum_c v_c g_c^T,
+//   f_c = -V0 P g_c   (the corner forces, summed per point by the gather pass).
+// Matrices are written out entry by entry in the order of the CPU's formulas (sums over the
+// inner index in increasing order). Eigen's vectorized reductions round some sums in another
+// order, so CPU and GPU differ in the last bits: 1e-16 of the body's size after 1,563 steps of a
+// landing on llvmpipe (unit.gpu_GpuTetElasticity*), not bitwise as the spring network is.
+layout(std430, binding = 0) readonly buffer Tets { ivec4 tets[]; };
+layout(std430, binding = 1) readonly buffer ShapeGradients { dvec4 shapeGradients[]; }; // 4 per tet
+layout(std430, binding = 2) readonly buffer TetLaws { dvec4 tetLaws[]; }; // 2 per tet, below
+layout(std430, binding = 3) readonly buffer InPositions { dvec4 inPositions[]; };
+layout(std430, binding = 4) readonly buffer InVelocities { dvec4 inVelocities[]; };
+layout(std430, binding = 5) writeonly buffer CornerForces { dvec4 cornerForces[]; }; // 4 per tet
+
+// tetLaws[2 t]     = (V0, law mu, law lambda, alpha)
+// tetLaws[2 t + 1] = (linear mu, linear lambda, beta (damping time), 0)
+
+/// sum_c y_c g_c^T over the tet's corners (core: deformationGradient).
+dmat3 gradientOf(ivec4 tet, uint t, bool ofVelocities)
+{
+  dmat3 f = dmat3(0.0lf);
+  for (int c = 0; c < 4; ++c)
+  {
+    dvec3 y = ofVelocities ? inVelocities[tet[c]].xyz : inPositions[tet[c]].xyz;
+    dvec3 g = shapeGradients[4 * t + uint(c)].xyz;
+    for (int col = 0; col < 3; ++col)
+    {
+      for (int row = 0; row < 3; ++row)
+      {
+        precise double term = y[row] * g[col];
+        if (c == 0)
+        {
+          f[col][row] = term;
+        }
+        else
+        {
+          precise double sum = f[col][row] + term;
+          f[col][row] = sum;
+        }
+      }
+    }
+  }
+  return f;
+}
+
+/// a^T b, entry (i, j) = sum_k a(k, i) b(k, j).
+dmat3 transposeTimes(dmat3 a, dmat3 b)
+{
+  dmat3 r;
+  for (int j = 0; j < 3; ++j)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      precise double s = a[i][0] * b[j][0] + a[i][1] * b[j][1] + a[i][2] * b[j][2];
+      r[j][i] = s;
+    }
+  }
+  return r;
+}
+
+/// a b, entry (i, j) = sum_k a(i, k) b(k, j).
+dmat3 times(dmat3 a, dmat3 b)
+{
+  dmat3 r;
+  for (int j = 0; j < 3; ++j)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      precise double s = a[0][i] * b[j][0] + a[1][i] * b[j][1] + a[2][i] * b[j][2];
+      r[j][i] = s;
+    }
+  }
+  return r;
+}
+
+void main()
+{
+  uint t = itemIndex();
+  if (t >= itemCount)
+  {
+    return;
+  }
+  ivec4 tet = tets[t];
+  dvec4 law = tetLaws[2 * t];
+  dvec4 linear = tetLaws[2 * t + 1];
+  double mu = law.y, lambda = law.z, alpha = law.w;
+  dmat3 f = gradientOf(tet, t, false);
+
+  // StableNeoHookeanLaw::energyAndStressOf
+  precise double ic = 0.0lf;
+  for (int col = 0; col < 3; ++col)
+  {
+    for (int row = 0; row < 3; ++row)
+    {
+      ic += f[col][row] * f[col][row];
+    }
+  }
+  dmat3 cofactor;
+  cofactor[0] = cross3(f[1], f[2]);
+  cofactor[1] = cross3(f[2], f[0]);
+  cofactor[2] = cross3(f[0], f[1]);
+  double j = dot3(f[0], cofactor[0]);
+  precise double shear = mu * (1.0lf - 1.0lf / (ic + 1.0lf));
+  precise double volumetric = lambda * (j - alpha);
+  dmat3 stress;
+  for (int col = 0; col < 3; ++col)
+  {
+    precise dvec3 column = shear * f[col] + volumetric * cofactor[col];
+    stress[col] = column;
+  }
+
+  double beta = linear.z;
+  if (beta > 0.0lf)
+  {
+    // viscousStress(F, Fdot, linear, beta): beta F (2 mu D + lambda tr(D) I).
+    dmat3 local = transposeTimes(f, gradientOf(tet, t, true));
+    dmat3 d;
+    for (int col = 0; col < 3; ++col)
+    {
+      for (int row = 0; row < 3; ++row)
+      {
+        precise double s = 0.5lf * (local[col][row] + local[row][col]);
+        d[col][row] = s;
+      }
+    }
+    precise double trace = d[0][0] + d[1][1] + d[2][2];
+    precise double twoMu = 2.0lf * linear.x;
+    precise double lambdaTrace = linear.y * trace;
+    dmat3 inner;
+    for (int col = 0; col < 3; ++col)
+    {
+      for (int row = 0; row < 3; ++row)
+      {
+        precise double s = twoMu * d[col][row] + lambdaTrace * (row == col ? 1.0lf : 0.0lf);
+        inner[col][row] = s;
+      }
+    }
+    dmat3 scaledF;
+    for (int col = 0; col < 3; ++col)
+    {
+      precise dvec3 column = beta * f[col];
+      scaledF[col] = column;
+    }
+    dmat3 viscous = times(scaledF, inner);
+    for (int col = 0; col < 3; ++col)
+    {
+      precise dvec3 column = stress[col] + viscous[col];
+      stress[col] = column;
+    }
+  }
+
+  // f_c = (-V0 P) g_c
+  double minusV0 = -law.x;
+  for (int c = 0; c < 4; ++c)
+  {
+    dvec3 g = shapeGradients[4 * t + uint(c)].xyz;
+    dvec3 force;
+    for (int row = 0; row < 3; ++row)
+    {
+      precise double s = (minusV0 * stress[0][row]) * g.x + (minusV0 * stress[1][row]) * g.y +
+        (minusV0 * stress[2][row]) * g.z;
+      force[row] = s;
+    }
+    cornerForces[4 * t + uint(c)] = dvec4(force, 0.0lf);
+  }
+}
