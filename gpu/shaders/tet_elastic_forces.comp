@@ -4,10 +4,11 @@
 //   F = sum_c x_c g_c^T,  P = mu (1 - 1 / (I_C + 1)) F + lambda (J - alpha) cof(F)
 //     + beta F (2 mu_lin D + lambda_lin tr(D) I),  D = sym(F^T Fdot),  Fdot = sum_c v_c g_c^T,
 //   f_c = -V0 P g_c   (the corner forces, summed per point by the gather pass).
-// Matrices are written out entry by entry in the order of the CPU's formulas (sums over the
-// inner index in increasing order). Eigen's vectorized reductions round some sums in another
-// order, so CPU and GPU differ in the last bits: 1e-16 of the body's size after 1,563 steps of a
-// landing on llvmpipe (unit.gpu_GpuTetElasticity*), not bitwise as the spring network is.
+// Matrices are written out entry by entry, each sum in the order Eigen's SSE2 code (two
+// doubles per packet, core's x86-64 build) adds it, so that the CPU's rounding is reproduced:
+// a 3x3 product or matrix-vector product sums rows 0 and 1 (one packet) as (p0 + p1) + p2 and
+// row 2 (the scalar tail) as p0 + (p1 + p2); a trace is d0 + (d1 + d2); |F|^2 adds two lanes of
+// F's entries in memory order. A build of core with wider packets (AVX) would sum otherwise.
 layout(std430, binding = 0) readonly buffer Tets { ivec4 tets[]; };
 layout(std430, binding = 1) readonly buffer ShapeGradients { dvec4 shapeGradients[]; }; // 4 per tet
 layout(std430, binding = 2) readonly buffer TetLaws { dvec4 tetLaws[]; }; // 2 per tet, below
@@ -61,6 +62,14 @@ dmat3 transposeTimes(dmat3 a, dmat3 b)
   return r;
 }
 
+/// p0 + p1 + p2 in the order Eigen's column-major product sums row `row` (see above).
+double rowSum(int row, double p0, double p1, double p2)
+{
+  precise double packetRows = (p0 + p1) + p2;
+  precise double tailRow = p0 + (p1 + p2);
+  return row < 2 ? packetRows : tailRow;
+}
+
 /// a b, entry (i, j) = sum_k a(i, k) b(k, j).
 dmat3 times(dmat3 a, dmat3 b)
 {
@@ -69,8 +78,10 @@ dmat3 times(dmat3 a, dmat3 b)
   {
     for (int i = 0; i < 3; ++i)
     {
-      precise double s = a[0][i] * b[j][0] + a[1][i] * b[j][1] + a[2][i] * b[j][2];
-      r[j][i] = s;
+      precise double p0 = a[0][i] * b[j][0];
+      precise double p1 = a[1][i] * b[j][1];
+      precise double p2 = a[2][i] * b[j][2];
+      r[j][i] = rowSum(i, p0, p1, p2);
     }
   }
   return r;
@@ -90,14 +101,13 @@ void main()
   dmat3 f = gradientOf(tet, t, false);
 
   // StableNeoHookeanLaw::energyAndStressOf
-  precise double ic = 0.0lf;
-  for (int col = 0; col < 3; ++col)
+  double e[9];
+  for (int k = 0; k < 9; ++k)
   {
-    for (int row = 0; row < 3; ++row)
-    {
-      ic += f[col][row] * f[col][row];
-    }
+    precise double square = f[k / 3][k % 3] * f[k / 3][k % 3];
+    e[k] = square;
   }
+  precise double ic = (((e[0] + e[2]) + (e[4] + e[6])) + ((e[1] + e[3]) + (e[5] + e[7]))) + e[8];
   dmat3 cofactor;
   cofactor[0] = cross3(f[1], f[2]);
   cofactor[1] = cross3(f[2], f[0]);
@@ -126,7 +136,7 @@ void main()
         d[col][row] = s;
       }
     }
-    precise double trace = d[0][0] + d[1][1] + d[2][2];
+    precise double trace = d[0][0] + (d[1][1] + d[2][2]);
     precise double twoMu = 2.0lf * linear.x;
     precise double lambdaTrace = linear.y * trace;
     dmat3 inner;
@@ -160,9 +170,10 @@ void main()
     dvec3 force;
     for (int row = 0; row < 3; ++row)
     {
-      precise double s = (minusV0 * stress[0][row]) * g.x + (minusV0 * stress[1][row]) * g.y +
-        (minusV0 * stress[2][row]) * g.z;
-      force[row] = s;
+      precise double p0 = (minusV0 * stress[0][row]) * g.x;
+      precise double p1 = (minusV0 * stress[1][row]) * g.y;
+      precise double p2 = (minusV0 * stress[2][row]) * g.z;
+      force[row] = rowSum(row, p0, p1, p2);
     }
     cornerForces[4 * t + uint(c)] = dvec4(force, 0.0lf);
   }

@@ -7,8 +7,9 @@
 // On Mesa's llvmpipe (software rasterizer, no GPU) the GPU timings measure a CPU emulating a
 // GPU: read them as a correctness run, not as performance.
 //
-// Each mesh runs twice: as given and with its vertices renumbered along a Morton curve
-// (mesh/reorder.h), both compared with the CPU stepper on the same ordering.
+// Each mesh runs with the Spring Network as given and with its vertices renumbered along a
+// Morton curve (mesh/reorder.h), then with Stable Neo-Hookean tets renumbered, each compared
+// with the CPU stepper on the same ordering and material.
 //
 // Usage: bench_gpu_mass_spring [--smoke] [--data <shared data dir>] [--csv <file>]
 //                              [--mesh <name or file>]
@@ -127,21 +128,31 @@ int main(int argc, char** argv)
     bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
 
   std::ofstream csv(options.csv);
-  csv << "mesh,vertices,tets,ordering,steps,cpu_ms_per_step,gpu_ms_per_step,gpu_speedup,"
+  csv << "mesh,vertices,tets,material,ordering,steps,cpu_ms_per_step,gpu_ms_per_step,gpu_speedup,"
          "download_ms,max_relative_difference,bitwise_equal,gl_renderer\n";
   bool printedHeader = false;
+  struct Case
+  {
+    MaterialModel model;
+    VertexOrdering ordering;
+  };
+  const Case cases[] = { { MaterialModel::SpringNetwork, VertexOrdering::Input },
+    { MaterialModel::SpringNetwork, kDefaultVertexOrdering },
+    { MaterialModel::StableNeoHookean, kDefaultVertexOrdering } };
   for (const auto& named : meshes)
   {
-    BodyDescription body;
-    body.mesh = named.mesh;
     // Smoke on the generated boxes: the landing scene (floor and strain limiter acting; checked
     // on the CPU below). The public meshes' slivers need too many steps for a smoke run.
     const bool landing = options.smoke && named.name.rfind("box_", 0) == 0;
     const SceneSettings scene = landing ? bench::landingScene(named.mesh) : sceneFor(named.mesh);
-    // Both steppers on the same body, first as given, then renumbered for locality; their
-    // outputs come back in input order either way (mass_spring_reordered.h).
-    for (VertexOrdering ordering : { VertexOrdering::Input, kDefaultVertexOrdering })
+    // Both steppers on the same body, as given or renumbered for locality; their outputs come
+    // back in input order either way (mass_spring_reordered.h).
+    for (const Case& c : cases)
     {
+      const VertexOrdering ordering = c.ordering;
+      BodyDescription body;
+      body.mesh = named.mesh;
+      body.material.model = c.model;
       std::string whyNot, renderer, version;
       std::unique_ptr<Simulation> gpuSimulation;
       try
@@ -181,8 +192,8 @@ int main(int argc, char** argv)
           std::printf("note: software rendering (Mesa on the CPU): GPU timings below are a "
                       "correctness run, not GPU performance.\n");
         }
-        std::printf("\n%-22s %8s %8s %-6s %6s %10s %10s %8s %10s %12s\n", "mesh", "tets", "verts",
-          "order", "steps", "cpu ms", "gpu ms", "speedup", "dl ms", "max rel diff");
+        std::printf("\n%-22s %8s %8s %-18s %-6s %6s %10s %10s %8s %10s %12s\n", "mesh", "tets", "verts",
+          "material", "order", "steps", "cpu ms", "gpu ms", "speedup", "dl ms", "max rel diff");
         printedHeader = true;
       }
       std::unique_ptr<Simulation> cpuSimulation = makeMassSpringSimulation(body, scene, ordering);
@@ -196,13 +207,13 @@ int main(int argc, char** argv)
         std::printf("%-22s failed: %s\n", named.name.c_str(), error.what());
         return 1;
       }
-      std::printf("%-22s %8zu %8zu %-6s %6d %10.3f %10.4f %8.2f %10.3f %12.3g%s\n",
+      std::printf("%-22s %8zu %8zu %-18s %-6s %6d %10.3f %10.4f %8.2f %10.3f %12.3g%s\n",
         named.name.c_str(), named.mesh.tets.size(), named.mesh.points.size(),
-        vertexOrderingName(ordering), r.steps, 1e3 * r.cpuSecondsPerStep, 1e3 * r.gpuSecondsPerStep,
+        materialModelName(c.model), vertexOrderingName(ordering), r.steps, 1e3 * r.cpuSecondsPerStep, 1e3 * r.gpuSecondsPerStep,
         r.cpuSecondsPerStep / r.gpuSecondsPerStep, 1e3 * r.downloadSeconds, r.relativeDifference,
         r.bitwiseEqual ? "  (bitwise equal)" : "");
       csv << named.name << ',' << named.mesh.points.size() << ',' << named.mesh.tets.size() << ','
-          << vertexOrderingName(ordering) << ',' << r.steps << ',' << 1e3 * r.cpuSecondsPerStep << ','
+          << materialModelName(c.model) << ',' << vertexOrderingName(ordering) << ',' << r.steps << ',' << 1e3 * r.cpuSecondsPerStep << ','
           << 1e3 * r.gpuSecondsPerStep << ',' << r.cpuSecondsPerStep / r.gpuSecondsPerStep << ','
           << 1e3 * r.downloadSeconds << ',' << r.relativeDifference << ',' << (r.bitwiseEqual ? 1 : 0)
           << ",\"" << renderer << "\"\n";
@@ -212,7 +223,7 @@ int main(int argc, char** argv)
           r.relativeDifference);
         return 1;
       }
-      if (landing && ordering == VertexOrdering::Input)
+      if (landing && ordering == VertexOrdering::Input && c.model == MaterialModel::SpringNetwork)
       {
         auto cpuAt = [&](const SceneSettings& other) {
           MassSpringSimulation simulation(body, other);
