@@ -219,66 +219,54 @@ void MassSpringDevice::computeAccelerations(const StorageBuffer& x, const Storag
   Clock.end();
 }
 
+const ComputeProgram& MassSpringDevice::bound(const ComputeProgram& program,
+  std::initializer_list<std::pair<const char*, const StorageBuffer*>> buffers)
+{
+  program.use();
+  for (const auto& [block, buffer] : buffers)
+  {
+    program.bind(block, *buffer);
+  }
+  return program;
+}
+
 void MassSpringDevice::tetElasticAccelerations(const StorageBuffer& x, const StorageBuffer& v)
 {
-  const ComputeProgram& tets = Kernels.tetElasticForces;
-  tets.use();
-  tets.bind("Tets", Tets);
-  tets.bind("ShapeGradients", ShapeGradients);
-  tets.bind("TetLaws", TetLaws);
-  tets.bind("InPositions", x);
-  tets.bind("InVelocities", v);
-  tets.bind("CornerForces", CornerForces);
-  tets.dispatch(TetCount);
+  bound(Kernels.tetElasticForces,
+    { { "Tets", &Tets }, { "ShapeGradients", &ShapeGradients }, { "TetLaws", &TetLaws },
+      { "InPositions", &x }, { "InVelocities", &v }, { "CornerForces", &CornerForces } })
+    .dispatch(TetCount);
 
-  const ComputeProgram& gather = Kernels.gatherCornerForces;
-  gather.use();
-  gather.bind("CornerForces", CornerForces);
-  gather.bind("VertexTetCorners", VertexTetCorners);
-  gather.bind("InverseMasses", InverseMasses);
-  gather.bind("Accelerations", Accelerations);
   double gravity[3];
   toArray(Scene.gravity, gravity);
+  const ComputeProgram& gather = bound(Kernels.gatherCornerForces,
+    { { "CornerForces", &CornerForces }, { "VertexTetCorners", &VertexTetCorners },
+      { "InverseMasses", &InverseMasses }, { "Accelerations", &Accelerations } });
   gather.set("gravity", gravity);
   gather.dispatch(VertexCount);
 }
 
 void MassSpringDevice::springNetworkAccelerations(const StorageBuffer& x, const StorageBuffer& v)
 {
-  const ComputeProgram& springs = Kernels.springForces;
-  springs.use();
-  springs.bind("Edges", Edges);
-  springs.bind("EdgeConstants", EdgeConstants);
-  springs.bind("InPositions", x);
-  springs.bind("InVelocities", v);
-  springs.bind("SpringForces", SpringForces);
-  springs.dispatch(EdgeCount);
-
+  bound(Kernels.springForces,
+    { { "Edges", &Edges }, { "EdgeConstants", &EdgeConstants }, { "InPositions", &x },
+      { "InVelocities", &v }, { "SpringForces", &SpringForces } })
+    .dispatch(EdgeCount);
   if (HasVolumeTerm)
   {
-    const ComputeProgram& volumes = Kernels.volumeForces;
-    volumes.use();
-    volumes.bind("Tets", Tets);
-    volumes.bind("TetConstants", TetConstants);
-    volumes.bind("InPositions", x);
-    volumes.bind("InVelocities", v);
-    volumes.bind("TetScales", TetScales);
-    volumes.dispatch(TetCount);
+    bound(Kernels.volumeForces,
+      { { "Tets", &Tets }, { "TetConstants", &TetConstants }, { "InPositions", &x },
+        { "InVelocities", &v }, { "TetScales", &TetScales } })
+      .dispatch(TetCount);
   }
 
-  const ComputeProgram& gather = Kernels.gatherAccelerations;
-  gather.use();
-  gather.bind("SpringForces", SpringForces);
-  gather.bind("VertexEdges", VertexEdges);
-  gather.bind("TetScales", TetScales);
-  gather.bind("VertexTetCorners", VertexTetCorners);
-  gather.bind("Tets", Tets);
-  gather.bind("InPositions", x);
-  gather.bind("InverseMasses", InverseMasses);
-  gather.bind("Accelerations", Accelerations);
-  gather.set("hasVolumeTerm", HasVolumeTerm);
   double gravity[3];
   toArray(Scene.gravity, gravity);
+  const ComputeProgram& gather = bound(Kernels.gatherAccelerations,
+    { { "SpringForces", &SpringForces }, { "VertexEdges", &VertexEdges }, { "TetScales", &TetScales },
+      { "VertexTetCorners", &VertexTetCorners }, { "Tets", &Tets }, { "InPositions", &x },
+      { "InverseMasses", &InverseMasses }, { "Accelerations", &Accelerations } });
+  gather.set("hasVolumeTerm", HasVolumeTerm);
   gather.set("gravity", gravity);
   gather.dispatch(VertexCount);
 }
@@ -287,10 +275,7 @@ void MassSpringDevice::runUpdate(const ComputeProgram& program,
   std::initializer_list<std::pair<const char*, const StorageBuffer*>> extraBuffers,
   std::initializer_list<std::pair<const char*, double>> stepSizes)
 {
-  program.use();
-  program.bind("Positions", Positions);
-  program.bind("Velocities", Velocities);
-  program.bind("Accelerations", Accelerations);
+  bound(program, { { "Positions", &Positions }, { "Velocities", &Velocities }, { "Accelerations", &Accelerations } });
   for (const auto& [block, buffer] : extraBuffers)
   {
     program.bind(block, *buffer);

@@ -45,6 +45,10 @@ private:
   void springNetworkAccelerations(const StorageBuffer& x, const StorageBuffer& v);
   void tetElasticAccelerations(const StorageBuffer& x, const StorageBuffer& v);
   void integrate(double h, double kick);
+  /// `program` made current with `buffers` bound to its storage blocks by name; set its
+  /// uniforms, then dispatch.
+  static const ComputeProgram& bound(const ComputeProgram& program,
+    std::initializer_list<std::pair<const char*, const StorageBuffer*>> buffers);
   /// One integrator update kernel over the vertices: it reads the state and the accelerations
   /// (bound here) plus `extraBuffers`, with its step-size uniforms.
   void runUpdate(const ComputeProgram& program,

@@ -29,31 +29,22 @@ Vec3 tilt(const Vec3& p, double angle)
     -std::sin(angle) * p.x() + std::cos(angle) * p.z());
 }
 
-Vec3 centerOfMass(const Simulation& sim)
+/// The mass-weighted mean of `values` (one per point of `sim`).
+Vec3 massWeightedMean(const Simulation& sim, const std::vector<Vec3>& values)
 {
   Vec3 sum = Vec3::Zero();
   double mass = 0.0;
-  for (std::size_t i = 0; i < sim.positions().size(); ++i)
+  for (std::size_t i = 0; i < values.size(); ++i)
   {
     const double m = 1.0 / sim.inverseMasses()[i];
-    sum += m * sim.positions()[i];
+    sum += m * values[i];
     mass += m;
   }
   return sum / mass;
 }
 
-Vec3 meanVelocity(const Simulation& sim)
-{
-  Vec3 sum = Vec3::Zero();
-  double mass = 0.0;
-  for (std::size_t i = 0; i < sim.velocities().size(); ++i)
-  {
-    const double m = 1.0 / sim.inverseMasses()[i];
-    sum += m * sim.velocities()[i];
-    mass += m;
-  }
-  return sum / mass;
-}
+Vec3 centerOfMass(const Simulation& sim) { return massWeightedMean(sim, sim.positions()); }
+Vec3 meanVelocity(const Simulation& sim) { return massWeightedMean(sim, sim.velocities()); }
 
 /// A 12 cm box resting on the floor tilted by `angle`, friction mu (static = dynamic).
 struct Incline
