@@ -175,8 +175,10 @@ MassSpringDevice::MassSpringDevice(
     MidPositions = vectorBuffer("midpoint positions", VertexCount);
     MidVelocities = vectorBuffer("midpoint velocities", VertexCount);
   }
-  SpringForces = vectorBuffer("spring forces", EdgeCount);
-  TetScales = StorageBuffer("tet scales", sizeof(double) * (HasVolumeTerm ? TetCount : 0));
+  // The network's force buffers only where the network makes the forces (the springs' rest
+  // lengths stay for the strain limiter and the divergence check either way).
+  SpringForces = vectorBuffer("spring forces", Continuum ? 0 : EdgeCount);
+  TetScales = StorageBuffer("tet scales", sizeof(double) * (!Continuum && HasVolumeTerm ? TetCount : 0));
   if (LimitsStrain)
   {
     EdgeCorrections = vectorBuffer("edge corrections", EdgeCount);

@@ -6,6 +6,7 @@
 #include "test_support.h"
 #include "collision_test_scenes.h"
 #include "torus_pair.h"
+#include "incline_scene.h"
 
 #include <tbb/global_control.h>
 
@@ -16,6 +17,7 @@
 #include <cstdio>
 
 using namespace softbody;
+using test::tilt;
 
 namespace
 {
@@ -48,16 +50,6 @@ SceneSettings obstacleScene(double margin)
   return scene;
 }
 
-Vec3 centerOfMass(const MassSpringSimulation& sim)
-{
-  Vec3 c = Vec3::Zero();
-  for (std::size_t i = 0; i < sim.positions().size(); ++i)
-  {
-    c += sim.masses()[i] * sim.positions()[i];
-  }
-  return c / sim.totalMass();
-}
-
 Vec3 meanVelocity(const MassSpringSimulation& sim)
 {
   Vec3 v = Vec3::Zero();
@@ -76,14 +68,6 @@ double lowest(const std::vector<Vec3>& points, std::size_t begin = 0, std::size_
     z = std::min(z, points[i].z());
   }
   return z;
-}
-
-/// Rotation by `angle` about +y: tilts the +z normal toward +x... toward -x for angle > 0
-/// (downhill is +x).
-Vec3 tilt(const Vec3& p, double angle)
-{
-  return Vec3(std::cos(angle) * p.x() + std::sin(angle) * p.z(), p.y(),
-    -std::sin(angle) * p.x() + std::cos(angle) * p.z());
 }
 
 } // namespace
@@ -177,14 +161,9 @@ TEST(MassSpringCollisions, OnAnInclineABodySlidesAtGTimesSinMinusMuCosOrSticks)
     }
     MassSpringSimulation sim(body, scene);
     sim.setObstacles({ plane }, 0.0);
-    const Vec3 downhill = tilt(Vec3::UnitX(), angle);
-    sim.advance(t1);
-    const Vec3 start = centerOfMass(sim);
-    const double v1 = meanVelocity(sim).dot(downhill);
-    sim.advance(t2);
-    const double v2 = meanVelocity(sim).dot(downhill);
-    acceleration = (v2 - v1) / (t2 - t1);
-    travel = (centerOfMass(sim) - start).dot(downhill); // from t1 to t2
+    const test::Slide slide = test::slideBetween(sim, angle, t1, t2);
+    acceleration = slide.acceleration;
+    travel = slide.travel;
   };
   double a = 0.0, travel = 0.0;
   for (double mu : { 0.0, 0.2, 0.4 })
