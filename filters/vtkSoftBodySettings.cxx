@@ -120,14 +120,15 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
       softbody::integratorName(vtkSoftBodySettings::Integrator(p.Integrator)) +
       "). Choose one of those two.");
   }
-  if (p.MaterialModel != vtkSoftBodyFilter::SPRING_NETWORK)
+  const softbody::MaterialModel model = vtkSoftBodySettings::Material(p).model;
+  if (softbody::isContinuum(model) && !xpbd)
   {
-    // The continuum models' XPBD constraints are not built yet: refuse rather than run links.
+    // PBD's stiffnesses in [0, 1] have no modulus for a continuum law's constraints.
     throw softbody::InvalidInputError("MaterialModel " + std::to_string(p.MaterialModel) + " (" +
-      softbody::materialModelName(vtkSoftBodySettings::Material(p).model) +
-      ") runs under Method Mass-Spring (with any of its integrators); PBD "
-      "and XPBD have their own constraints (XPBDMaterial). Set Method to Mass-Spring, or "
-      "MaterialModel to Spring Network.");
+      softbody::materialModelName(model) +
+      ") runs under Method Mass-Spring and XPBD, whose stiffness comes from YoungsModulus and "
+      "PoissonRatio; PBD's stiffnesses in [0, 1] have no modulus. Set Method to XPBD or "
+      "Mass-Spring, or MaterialModel to Spring Network.");
   }
   if (Choice("TimeStepMode", p.TimeStepMode, 2, "0 (Fixed), 1 (Error-controlled)") !=
     vtkSoftBodyFilter::FIXED_STEP)
@@ -153,12 +154,16 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
     s.links.compliance = p.XPBDLinkCompliance;
     s.volumes.compliance = p.XPBDVolumeCompliance;
     s.attachments.compliance = p.XPBDPinCompliance;
-    if (Choice("XPBDMaterial", p.XPBDMaterial, 2, "0 (compliances), 1 (Young's modulus)") ==
-      vtkSoftBodyFilter::XPBD_YOUNGS_MODULUS)
+    // A continuum model's constraints always come from E and nu; XPBDMaterial chooses where
+    // the Spring Network's come from.
+    const bool fromModulus = Choice("XPBDMaterial", p.XPBDMaterial, 2,
+                               "0 (compliances), 1 (Young's modulus)") == vtkSoftBodyFilter::XPBD_YOUNGS_MODULUS;
+    if (fromModulus || softbody::isContinuum(model))
     {
       s.elasticity.enabled = true;
       s.elasticity.youngsModulus = p.YoungsModulus;
       s.elasticity.poissonRatio = p.PoissonRatio;
+      s.elasticity.model = model;
     }
   }
   else

@@ -27,6 +27,8 @@ const char* stageName(Stage stage)
       return "predict";
     case Stage::SolveLinks:
       return "solve links";
+    case Stage::SolveTetElasticity:
+      return "solve tet elasticity";
     case Stage::SolveVolumes:
       return "solve volumes";
     case Stage::SolveAttachments:

@@ -110,7 +110,7 @@ bool PbdSimulation::collisionsActive() const
 
 void PbdSimulation::replan()
 {
-  Plan = planPbd(Settings, Links, Volumes, Attachments, collisionsActive());
+  Plan = planPbd(Settings, Links, TetElastic, Volumes, Attachments, collisionsActive());
   const std::size_t n = Rest.size();
   if (Plan.runs(Stage::ContactResponse) && State.impactSpeeds.size() != n)
   {

@@ -57,6 +57,7 @@ void PbdSimulation::storeLinksInOrder(const std::vector<std::int32_t>& order)
 void PbdSimulation::storeVolumesInOrder(const std::vector<std::int32_t>& order)
 {
   Volumes.storeInOrder(order);
+  TetElastic.storeInOrder(order); // a continuum body's tets, in the same order
   composeSlots(VolumeSlot, order);
   if (TetEdges.rowCount() > 0)
   {

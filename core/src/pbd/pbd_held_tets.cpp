@@ -36,7 +36,7 @@ void PbdSimulation::collectHeldTets()
     ObstacleGroupOf[static_cast<std::size_t>(point)] = -1;
   }
   HeldPoints.clear();
-  if (!Plan.runs(Stage::SolveVolumes))
+  if (!Plan.runs(Stage::SolveVolumes) && !Plan.runs(Stage::SolveTetElasticity))
   {
     return; // no volume to keep
   }
@@ -142,7 +142,14 @@ void PbdSimulation::iterateContactRegion()
   }
   for (std::int32_t t : RegionTets)
   {
-    detail::projectAndApply(Volumes, static_cast<std::size_t>(t), Predicted, InverseMass);
+    if (TetElastic.size() > 0)
+    {
+      detail::projectAndApply(TetElastic, static_cast<std::size_t>(t), Predicted, InverseMass);
+    }
+    else
+    {
+      detail::projectAndApply(Volumes, static_cast<std::size_t>(t), Predicted, InverseMass);
+    }
   }
   projectContacts();
 }

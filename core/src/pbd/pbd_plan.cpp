@@ -43,7 +43,8 @@ const char* pbdSolverName(PbdSolver solver, double relaxation)
 }
 
 StepPlan planPbd(const PbdSettings& settings, const DistanceBatch& links,
-  const VolumeBatch& volumes, const AttachmentBatch& attachments, bool collisions)
+  const TetElasticBatch& tetElasticity, const VolumeBatch& volumes,
+  const AttachmentBatch& attachments, bool collisions)
 {
   const std::string solver = std::string(settings.formulation == PbdFormulation::Xpbd ? "XPBD " : "PBD ") +
     pbdSolverName(settings.solver, settings.relaxation);
@@ -57,6 +58,11 @@ StepPlan planPbd(const PbdSettings& settings, const DistanceBatch& links,
   if (links.size() > 0 && canMove(settings, settings.links, links.compliance))
   {
     plan.add(Stage::SolveLinks, solver);
+  }
+  if (tetElasticity.size() > 0)
+  {
+    plan.add(Stage::SolveTetElasticity, solver + ", " + materialModelName(tetElasticity.model) +
+      " (deviatoric + hydrostatic, together)");
   }
   if (volumes.size() > 0 && canMove(settings, settings.volumes, volumes.compliance))
   {
@@ -72,7 +78,7 @@ StepPlan planPbd(const PbdSettings& settings, const DistanceBatch& links,
     const CollisionSettings& c = settings.collisions;
     // With tet volumes, the tets with a corner held by an obstacle are kept from being crushed
     // by the contacts, after the last iteration (pbd_held_tets.cpp).
-    const bool heldTets = plan.runs(Stage::SolveVolumes);
+    const bool heldTets = plan.runs(Stage::SolveVolumes) || plan.runs(Stage::SolveTetElasticity);
     std::string detail = c.staticFriction > 0.0 || c.dynamicFriction > 0.0 ? "with friction" : "frictionless";
     plan.add(Stage::SolveContacts, heldTets ? detail + ", held tets kept from crushing" : detail);
   }

@@ -4,8 +4,10 @@
 
 #include "softbody/common/errors.h"
 #include "softbody/common/validation.h"
+#include "softbody/material/constraint_forms.h"
 #include "softbody/material/mass.h"
 #include "softbody/material/material.h"
+#include "softbody/material/tet_elasticity.h"
 #include "softbody/mesh/reorder.h"
 #include "softbody/mesh/tet_mesh.h"
 #include "softbody/pbd/pbd_plan.h"
@@ -21,6 +23,44 @@ namespace softbody
 {
 namespace
 {
+
+void validateElasticity(const PbdSettings& s)
+{
+  check::positive("YoungsModulus", s.elasticity.youngsModulus, "Pa");
+  const MaterialModel model = s.elasticity.model;
+  const std::string name = materialModelName(model);
+  if (!isContinuum(model))
+  {
+    check::inRange("PoissonRatio", s.elasticity.poissonRatio, 0.0, 0.5, false, true);
+    return;
+  }
+  if (s.formulation != PbdFormulation::Xpbd)
+  {
+    throw InvalidInputError("MaterialModel " + name + " needs XPBD: its constraints' compliances "
+      "come from Young's modulus, and PBD's stiffnesses in [0, 1] have no modulus. Use XPBD, or "
+      "MaterialModel Spring Network with PBD's stiffnesses.");
+  }
+  if (model == MaterialModel::Corotated && s.elasticity.poissonRatio < 0.0)
+  {
+    // The hydrostatic constraint's compliance is 1 / (lambda V0), and lambda < 0 for nu < 0.
+    std::ostringstream message;
+    message << "PoissonRatio " << s.elasticity.poissonRatio << " gives Corotated a negative "
+            << "Lame lambda, which XPBD cannot take as a compliance. Under XPBD Corotated needs "
+            << "PoissonRatio in [0, 0.5); Stable Neo-Hookean takes any in (-1, 0.5), and "
+            << "Method Mass-Spring runs Corotated at any.";
+    throw InvalidInputError(message.str());
+  }
+  check::inRange("PoissonRatio", s.elasticity.poissonRatio, -1.0, 0.5, true, true);
+  if (s.breakingStrain > 0.0 || s.plasticYield > 0.0)
+  {
+    std::ostringstream message;
+    message << "BreakingStrain " << s.breakingStrain << " and PlasticYield " << s.plasticYield
+            << " act on links, and MaterialModel " << name << " holds its tets by their "
+            << "deformation, not by links along their edges. Set both to 0, or use MaterialModel "
+            << "Spring Network.";
+    throw InvalidInputError(message.str());
+  }
+}
 
 void validateSettings(const PbdSettings& s)
 {
@@ -42,14 +82,13 @@ void validateSettings(const PbdSettings& s)
   check::nonNegative("XPBDLinkCompliance", s.links.compliance, "m/N", "rigid");
   check::nonNegative("XPBDVolumeCompliance", s.volumes.compliance, "m^3/Pa", "rigid");
   check::nonNegative("XPBDPinCompliance", s.attachments.compliance, "m/N", "rigid");
-  if (s.elasticity.enabled)
-  {
-    check::positive("YoungsModulus", s.elasticity.youngsModulus, "Pa");
-    check::inRange("PoissonRatio", s.elasticity.poissonRatio, 0.0, 0.5, false, true);
-  }
   check::nonNegative("BreakingStrain", s.breakingStrain, "", "unbreakable");
   check::nonNegative("PlasticYield", s.plasticYield, "", "elastic");
   check::nonNegative("PlasticCreep", s.plasticCreep, "1/s");
+  if (s.elasticity.enabled)
+  {
+    validateElasticity(s);
+  }
 }
 
 bool hardAttachment(const PbdSettings& s)
@@ -102,10 +141,15 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
     topology = buildTopology(n, std::move(mesh.tets));
   }
 
-  // Distance links: tet edges first, then the explicit links in input order.
-  for (const Edge& e : topology.edges)
+  // Distance links: tet edges first (the spring network's; a continuum model holds its tets by
+  // their deformation instead), then the explicit links in input order.
+  const bool continuum = Settings.elasticity.enabled && isContinuum(Settings.elasticity.model);
+  if (!continuum)
   {
-    Links.ends.push_back({ e.a, e.b });
+    for (const Edge& e : topology.edges)
+    {
+      Links.ends.push_back({ e.a, e.b });
+    }
   }
   ExplicitLinkOffset = Links.ends.size();
   if (!body.linkStiffnessScale.empty() && body.linkStiffnessScale.size() != body.links.size())
@@ -152,7 +196,11 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   }
   Volumes.broken.assign(Volumes.size(), 0);
   Volumes.lambda.assign(Volumes.size(), 0.0);
-  if (Settings.elasticity.enabled && Settings.formulation == PbdFormulation::Xpbd && !Volumes.tets.empty())
+  if (continuum && !Volumes.tets.empty())
+  {
+    setUpTetElasticity(topology, body.points);
+  }
+  else if (Settings.elasticity.enabled && Settings.formulation == PbdFormulation::Xpbd && !Volumes.tets.empty())
   {
     setComplianceFromElasticity(topology, body.points);
   }
@@ -304,13 +352,23 @@ void PbdSimulation::labelBodies()
     }
     return i;
   };
-  for (const auto& e : Links.ends)
-  {
-    const std::int32_t a = root(e[0]), b = root(e[1]);
+  const auto join = [&](std::int32_t i, std::int32_t j) {
+    const std::int32_t a = root(i), b = root(j);
     if (a != b)
     {
       parent[std::max(a, b)] = std::min(a, b); // the root is the body's lowest index
     }
+  };
+  for (const auto& e : Links.ends)
+  {
+    join(e[0], e[1]);
+  }
+  // A continuum body's tets have no edge links.
+  for (const Tet& t : TetElastic.tets)
+  {
+    join(t[0], t[1]);
+    join(t[0], t[2]);
+    join(t[0], t[3]);
   }
   BodyOf.assign(n, -1);
   BodyFirstPoint.clear();
@@ -324,6 +382,43 @@ void PbdSimulation::labelBodies()
     }
     BodyOf[i] = BodyOf[r];
   }
+}
+
+void PbdSimulation::setUpTetElasticity(const Topology& topology, const std::vector<Vec3>& rest)
+{
+  MaterialSettings material;
+  material.model = Settings.elasticity.model;
+  material.mode = MaterialMode::Physical;
+  material.physical.youngsModulus = Settings.elasticity.youngsModulus;
+  material.physical.poissonRatio = Settings.elasticity.poissonRatio;
+  material.physical.dampingTime = 0.0; // XPBD damps through VelocityDamping
+  ElasticTopology = topology;
+  ElasticConstants = computeTetElasticConstants(topology, rest, material, Warnings);
+  ElasticConstants.damped = false;
+  const std::size_t tetCount = topology.tets.size();
+  TetElastic.model = material.model;
+  TetElastic.tets = topology.tets;
+  TetElastic.shapeGradients = ElasticConstants.shapeGradients;
+  TetElastic.restJ.resize(tetCount);
+  TetElastic.deviatoricCompliance.resize(tetCount);
+  TetElastic.hydrostaticCompliance.resize(tetCount);
+  withElasticLaw(material.model, [&](auto law) {
+    using Form = ConstraintForm<decltype(law)>;
+    for (std::size_t t = 0; t < tetCount; ++t)
+    {
+      const LameParameters& p = ElasticConstants.law[t];
+      const double volume = ElasticConstants.restVolume[t];
+      const double kH = Form::hydrostaticStiffness(p);
+      TetElastic.restJ[t] = Form::restJ(p);
+      TetElastic.deviatoricCompliance[t] = 1.0 / (Form::deviatoricStiffness(p) * volume);
+      TetElastic.hydrostaticCompliance[t] = kH > 0.0 ? 1.0 / (kH * volume) : std::numeric_limits<double>::infinity();
+    }
+  });
+  TetElastic.lambda.assign(tetCount, TetElasticMultipliers::Zero());
+  // The volume batch keeps the tets' rest volumes and order for the held-tet repair and the
+  // volume ratios, with no stiffness of its own; explicit links keep their compliance.
+  Links.compliance.assign(Links.size(), Settings.links.compliance);
+  Volumes.compliance.assign(Volumes.size(), std::numeric_limits<double>::infinity());
 }
 
 void PbdSimulation::setComplianceFromElasticity(const Topology& topology, const std::vector<Vec3>& rest)

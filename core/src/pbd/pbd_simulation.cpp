@@ -1,5 +1,6 @@
 #include "softbody/pbd/pbd_simulation.h"
 #include "softbody/mesh/volume_ratios.h"
+#include "softbody/material/tet_elastic_forces.h"
 
 #include "softbody/common/errors.h"
 #include "softbody/common/parallel.h"
@@ -78,6 +79,14 @@ void PbdSimulation::prepareParameters(double h)
     Volumes.params[t] = parameters(Settings.volumes, 1.0, Volumes.compliance.empty() ? -1.0 : Volumes.compliance[t]);
   }
   Attachments.params.assign(Attachments.size(), parameters(Settings.attachments, 1.0));
+  TetElastic.params.resize(TetElastic.size());
+  for (std::size_t t = 0; t < TetElastic.size(); ++t)
+  {
+    TetElasticParameters& p = TetElastic.params[t];
+    p.scale = relaxation;
+    p.alphaTildeDeviatoric = TetElastic.deviatoricCompliance[t] / (h * h);
+    p.alphaTildeHydrostatic = TetElastic.hydrostaticCompliance[t] / (h * h); // inf stays inf
+  }
 }
 
 void PbdSimulation::predict(double h)
@@ -121,6 +130,7 @@ void PbdSimulation::predict(double h)
   holdPredicted(h);
   std::fill(Links.lambda.begin(), Links.lambda.end(), 0.0);
   std::fill(Volumes.lambda.begin(), Volumes.lambda.end(), 0.0);
+  std::fill(TetElastic.lambda.begin(), TetElastic.lambda.end(), TetElasticMultipliers::Zero());
   std::fill(Attachments.lambda.begin(), Attachments.lambda.end(), 0.0);
 }
 
@@ -168,6 +178,9 @@ void PbdSimulation::projectAll(Stage stage)
     case Stage::SolveLinks:
       sweepBatch(Links, LinkSchedule);
       break;
+    case Stage::SolveTetElasticity:
+      sweepBatch(TetElastic, VolumeSchedule); // the same tets in the same order as Volumes
+      break;
     case Stage::SolveVolumes:
       sweepBatch(Volumes, VolumeSchedule);
       break;
@@ -181,9 +194,9 @@ void PbdSimulation::projectAll(Stage stage)
 
 void PbdSimulation::sweep()
 {
-  // One iteration: the planned constraint types in a fixed order (links, volumes, pins), then
-  // the contacts, so each iteration ends with the inequalities satisfied.
-  for (Stage stage : { Stage::SolveLinks, Stage::SolveVolumes, Stage::SolveAttachments })
+  // One iteration: the planned constraint types in a fixed order (links, continuum tets,
+  // volumes, pins), then the contacts, so each iteration ends with the inequalities satisfied.
+  for (Stage stage : { Stage::SolveLinks, Stage::SolveTetElasticity, Stage::SolveVolumes, Stage::SolveAttachments })
   {
     if (Plan.runs(stage))
     {
@@ -206,6 +219,10 @@ double PbdSimulation::residual() const
   if (Plan.runs(Stage::SolveLinks))
   {
     sum += squaredResidual(Links, x, InverseMass);
+  }
+  if (Plan.runs(Stage::SolveTetElasticity))
+  {
+    sum += squaredResidual(TetElastic, x, InverseMass);
   }
   if (Plan.runs(Stage::SolveVolumes))
   {
@@ -341,6 +358,17 @@ AdvanceStatus PbdSimulation::advance(double endTime, const ProgressCallback& pro
 std::vector<double> PbdSimulation::tetVolumeRatios() const
 {
   return softbody::tetVolumeRatios(Volumes.tets, Volumes.restVolume, State.positions, VolumeSlot);
+}
+
+TetStressField PbdSimulation::stressField() const
+{
+  return TetElastic.size() > 0 ? tetStressField(ElasticTopology, ElasticConstants, State.positions) : TetStressField{};
+}
+
+double PbdSimulation::elasticEnergy() const
+{
+  return TetElastic.size() > 0 ? tetElasticEnergy(ElasticTopology, ElasticConstants, State.positions)
+                               : Simulation::elasticEnergy();
 }
 
 std::size_t PbdSimulation::brokenLinkCount() const

@@ -28,6 +28,7 @@ enum class Stage
   // PBD / XPBD
   Predict,          ///< gravity and damping into predicted positions
   SolveLinks,       ///< distance constraints, every iteration
+  SolveTetElasticity, ///< continuum tets (deviatoric + hydrostatic constraints), every iteration
   SolveVolumes,     ///< tet volume constraints, every iteration
   SolveAttachments, ///< soft pins, every iteration
   SolveContacts,    ///< detected contacts as inequality constraints, every iteration

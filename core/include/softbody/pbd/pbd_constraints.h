@@ -10,6 +10,7 @@
 
 #include "softbody/common/permutation.h"
 #include "softbody/pbd/pbd_kernels.h"
+#include "softbody/pbd/pbd_tet_elastic_kernel.h"
 
 #include <array>
 #include <cstdint>
@@ -82,6 +83,44 @@ struct VolumeBatch
     softbody::storeInOrder(restVolume, order);
     softbody::storeInOrder(compliance, order);
     softbody::storeInOrder(broken, order);
+    softbody::storeInOrder(lambda, order);
+    softbody::storeInOrder(params, order);
+  }
+};
+
+/// Tets of a continuum law (Corotated, Stable Neo-Hookean): each tet's deviatoric and
+/// hydrostatic constraints, projected together (pbd_tet_elastic_kernel.h). Stored in the same
+/// order as the VolumeBatch of the same tets, which then holds their rest volumes and broken
+/// flags without being solved, so tet t is the same tet in both.
+struct TetElasticBatch
+{
+  static constexpr int Arity = 4;
+  MaterialModel model = MaterialModel::StableNeoHookean;
+  std::vector<Tet> tets;
+  std::vector<std::array<Vec3, 4>> shapeGradients; ///< G_k [1/m]
+  std::vector<double> restJ;                       ///< J the hydrostatic constraint holds
+  std::vector<double> deviatoricCompliance;        ///< 1 / (kD V0) [1/J]
+  std::vector<double> hydrostaticCompliance;       ///< 1 / (kH V0) [1/J]; inf: no bulk term
+  std::vector<TetElasticMultipliers> lambda;
+  std::vector<TetElasticParameters> params;
+
+  std::size_t size() const { return tets.size(); }
+  const std::int32_t* particles(std::size_t c) const { return tets[c].data(); }
+  bool active(std::size_t) const { return true; }
+  Projection<4, TetElasticMultipliers> project(
+    std::size_t c, const std::vector<Vec3>& x, const std::vector<double>& w) const
+  {
+    const Tet& t = tets[c];
+    return projectTetElastic({ x[t[0]], x[t[1]], x[t[2]], x[t[3]] },
+      { w[t[0]], w[t[1]], w[t[2]], w[t[3]] }, shapeGradients[c], model, restJ[c], lambda[c], params[c]);
+  }
+  void storeInOrder(const std::vector<std::int32_t>& order)
+  {
+    softbody::storeInOrder(tets, order);
+    softbody::storeInOrder(shapeGradients, order);
+    softbody::storeInOrder(restJ, order);
+    softbody::storeInOrder(deviatoricCompliance, order);
+    softbody::storeInOrder(hydrostaticCompliance, order);
     softbody::storeInOrder(lambda, order);
     softbody::storeInOrder(params, order);
   }

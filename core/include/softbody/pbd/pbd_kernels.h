@@ -15,12 +15,14 @@
 
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 namespace softbody
 {
 
-/// What one projection asks of its N particles.
-template <int N>
+/// What one projection asks of its N particles. `Multiplier` is double for one constraint, a
+/// small Eigen vector for constraints solved together (pbd_tet_elastic_kernel.h).
+template <int N, class Multiplier = double>
 struct Projection
 {
   Projection()
@@ -29,10 +31,19 @@ struct Projection
     {
       v.setZero(); // Eigen leaves vectors uninitialized
     }
+    if constexpr (std::is_arithmetic_v<Multiplier>)
+    {
+      dLambda = 0.0;
+    }
+    else
+    {
+      dLambda.setZero();
+    }
   }
   std::array<Vec3, N> dx;   ///< position corrections, already weighted by inverse mass
-  double dLambda = 0.0;     ///< change of the Lagrange multiplier (XPBD); 0 when inactive
-  double residual = 0.0;    ///< C + alphaTilde * lambda before the projection (0 if satisfied)
+  Multiplier dLambda;       ///< change of the Lagrange multiplier(s) (XPBD); 0 when inactive
+  double residual = 0.0;    ///< C + alphaTilde * lambda before the projection (0 if satisfied;
+                            ///< the norm of the vector for constraints solved together)
 };
 
 /// Per-projection constants of a batch within one step.

@@ -6,6 +6,7 @@
 
 #include "softbody/collision/collision_detector.h"
 #include "softbody/common/simulation.h"
+#include "softbody/material/tet_elasticity.h"
 #include "softbody/mesh/topology.h"
 #include "softbody/pbd/pbd_body.h"
 #include "softbody/pbd/pbd_contact_kernels.h"
@@ -44,6 +45,8 @@ public:
   const std::vector<double>& inverseMasses() const override { return InverseMass; }
   double totalMass() const override { return TotalMass; }
   std::vector<double> tetVolumeRatios() const override;
+  TetStressField stressField() const override;
+  double elasticEnergy() const override;
   double stepSize() const override { return Step; }
   double estimatedStableStep() const override { return 0.0; }
   const std::vector<std::string>& warnings() const override { return Warnings; }
@@ -74,6 +77,8 @@ public:
   /// tetBroken to ask about an input link or tet).
   const DistanceBatch& links() const { return Links; }
   const VolumeBatch& volumes() const { return Volumes; }
+  /// A continuum body's tets (MaterialModel Corotated or Stable Neo-Hookean), stored as volumes().
+  const TetElasticBatch& tetElasticity() const { return TetElastic; }
   /// Links in input order are the tet edges (topology order), then the explicit links: explicit
   /// link j is link explicitLinkOffset() + j.
   std::size_t explicitLinkOffset() const { return ExplicitLinkOffset; }
@@ -126,6 +131,7 @@ private:
   void storeLinksInOrder(const std::vector<std::int32_t>& order);
   void storeVolumesInOrder(const std::vector<std::int32_t>& order);
   void setComplianceFromElasticity(const Topology& topology, const std::vector<Vec3>& rest);
+  void setUpTetElasticity(const Topology& topology, const std::vector<Vec3>& rest);
   void checkDivergence() const;
 
   PbdSettings Settings;
@@ -139,6 +145,10 @@ private:
   double TotalMass = 0.0;
   DistanceBatch Links;
   VolumeBatch Volumes;
+  TetElasticBatch TetElastic; ///< empty unless a continuum model holds the tets
+  /// The continuum model's tets in input order, for its energy and stress field.
+  Topology ElasticTopology;
+  TetElasticConstants ElasticConstants;
   AttachmentBatch Attachments;
   BatchSchedule LinkSchedule, VolumeSchedule, AttachmentSchedule;
   Csr TetEdges; ///< tet -> its 6 link indices, to mark tets of broken links
