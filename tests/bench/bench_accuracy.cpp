@@ -530,10 +530,28 @@ struct ModelAnswer
 };
 std::vector<ModelAnswer> gModelAnswers;
 
-/// Records the network's static answer and each continuum model's (the Static integrator, with
-/// the finite-element mass lumping) on the scene's mesh.
-void recordModelAnswers(const LabScene& s, double network, double analytic,
+/// XPBD's rest state with a continuum model: 10 iterations x 16 substeps of 1/120 s, damped to
+/// rest over 3 s (its error falls with the square of the substep; methods.md).
+double xpbdContinuumAnswer(const LabScene& s, MaterialModel model,
   const std::function<double(const Simulation&)>& quantity)
+{
+  PbdBody body = s.pbdBody;
+  body.massDistribution = MassDistribution::LumpedVolume;
+  PbdSettings settings = pbdSettingsOf(s.body, s.scene, true);
+  settings.elasticity.model = model;
+  settings.iterations = 10;
+  settings.substeps = 16;
+  settings.damping = 5.0;
+  PbdSimulation sim(body, settings);
+  sim.advance(3.0);
+  return quantity(sim);
+}
+
+/// Records the network's static answer and each continuum model's (the Static integrator, with
+/// the finite-element mass lumping) on the scene's mesh; with `xpbdRows` also XPBD's rest state
+/// of each continuum model.
+void recordModelAnswers(const LabScene& s, double network, double analytic,
+  const std::function<double(const Simulation&)>& quantity, bool xpbdRows = false)
 {
   const std::size_t tets = s.body.mesh.tets.size();
   gModelAnswers.push_back({ s.name, materialModelName(MaterialModel::SpringNetwork), tets, network, analytic });
@@ -548,6 +566,15 @@ void recordModelAnswers(const LabScene& s, double network, double analytic,
     MassSpringSimulation sim(body, scene);
     sim.advance(0.1);
     gModelAnswers.push_back({ s.name, materialModelName(model), tets, quantity(sim), analytic });
+  }
+  if (!xpbdRows)
+  {
+    return;
+  }
+  for (MaterialModel model : { MaterialModel::Corotated, MaterialModel::StableNeoHookean })
+  {
+    gModelAnswers.push_back({ s.name, std::string("XPBD ") + materialModelName(model) + " (10 x 16 substeps)",
+      tets, xpbdContinuumAnswer(s, model, quantity), analytic });
   }
 }
 
@@ -672,7 +699,7 @@ ElasticScene barScene()
   const double analytic = rho * kG * length * length / (2 * E);
   auto elongation = [bottom](const Simulation& sim) { return -meanDisplacement(sim, bottom, 2); };
   const double network = staticAnswer(s, elongation);
-  recordModelAnswers(s, network, analytic, elongation);
+  recordModelAnswers(s, network, analytic, elongation, true);
   char line[512];
   std::snprintf(line, sizeof line,
     "bar: elasticity rho g L^2/(2E) = %.4e m; the network's static answer (backward Euler to rest) "
@@ -707,7 +734,7 @@ ElasticScene cantileverScene()
   const double analytic = bending + shear;
   auto sag = [tip](const Simulation& sim) { return -meanDisplacement(sim, tip, 2); };
   const double network = staticAnswer(s, sag);
-  recordModelAnswers(s, network, analytic, sag);
+  recordModelAnswers(s, network, analytic, sag, true);
   // The tip's points, found again on each refined mesh (x = L), measure the same sag.
   recordCantileverRefinement(s, analytic, cell, 2, [L](const Simulation& sim) {
     double drop = 0.0;
