@@ -242,9 +242,9 @@ TEST(XpbdContinuum, HangingBarRestsWhereTheStaticSolveOfTheSameLawRests)
   // The constraints' energy is the law's, so XPBD's rest state is the law's equilibrium up to
   // XPBD's own error: each step rebuilds the elastic force from zero multipliers along the
   // iterates' path, so the force is off by the gradients' change over that path, which shrinks
-  // with the square of the substep (Macklin et al. 2019, "Small Steps"). Stable Neo-Hookean's
-  // constraints carry a prestress at rest (C_D != 0, balanced by C_H), which that error
-  // multiplies: at one substep it is far off, so the docs ask for substeps with it.
+  // with the square of the substep (Macklin et al. 2019, "Small Steps"). Both laws' constraints
+  // vanish at rest (constraint_forms.h), so neither carries a prestress for that error to
+  // multiply, and they land alike.
   const HangingBar bar;
   for (MaterialModel model : kModels)
   {
@@ -415,10 +415,13 @@ TEST(XpbdContinuum, RefusesWhatHasNoMeaningQuotingTheValue)
 {
   const PbdBody body = pbdBodyOf(makeTetBox(2, 2, 2, 0.1), 1000.0);
   PbdSettings settings = xpbdSettings(MaterialModel::Corotated, 1.0e5, -0.2);
-  EXPECT_NE(refusal(body, settings).find("PoissonRatio -0.2 gives Corotated a negative"), std::string::npos)
-    << refusal(body, settings);
+  EXPECT_NE(refusal(body, settings).find("PoissonRatio -0.2 gives Corotated's hydrostatic constraint a negative"),
+    std::string::npos) << refusal(body, settings);
   settings.elasticity.model = MaterialModel::StableNeoHookean;
-  EXPECT_EQ(refusal(body, settings), ""); // Stable Neo-Hookean's lambda stays positive
+  EXPECT_EQ(refusal(body, settings), ""); // its kH = lambda - mu / 4 >= 0 down to nu = -0.5
+  settings.elasticity.poissonRatio = -0.7;
+  EXPECT_NE(refusal(body, settings).find("PoissonRatio -0.7 gives Stable Neo-Hookean's hydrostatic"),
+    std::string::npos) << refusal(body, settings);
   settings.elasticity.poissonRatio = 0.5;
   EXPECT_NE(refusal(body, settings).find("0.5"), std::string::npos) << refusal(body, settings);
   settings.elasticity.poissonRatio = 0.3;

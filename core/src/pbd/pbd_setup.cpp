@@ -40,17 +40,23 @@ void validateElasticity(const PbdSettings& s)
       "come from Young's modulus, and PBD's stiffnesses in [0, 1] have no modulus. Use XPBD, or "
       "MaterialModel Spring Network with PBD's stiffnesses.");
   }
-  if (model == MaterialModel::Corotated && s.elasticity.poissonRatio < 0.0)
+  check::inRange("PoissonRatio", s.elasticity.poissonRatio, -1.0, 0.5, true, true);
+  // The hydrostatic constraint's compliance is 1 / (kH V0); kH < 0 (Corotated's lambda below
+  // nu = 0, Stable Neo-Hookean's lambda - mu / 4 below nu = -0.5) is no compliance.
+  const LameParameters linear = lameFromYoung(s.elasticity.youngsModulus, s.elasticity.poissonRatio);
+  const double kH = withElasticLaw(model, [&](auto law) {
+    using Law = decltype(law);
+    return ConstraintForm<Law>::hydrostaticStiffness(Law::fromLinear(linear));
+  });
+  if (kH < 0.0)
   {
-    // The hydrostatic constraint's compliance is 1 / (lambda V0), and lambda < 0 for nu < 0.
     std::ostringstream message;
-    message << "PoissonRatio " << s.elasticity.poissonRatio << " gives Corotated a negative "
-            << "Lame lambda, which XPBD cannot take as a compliance. Under XPBD Corotated needs "
-            << "PoissonRatio in [0, 0.5); Stable Neo-Hookean takes any in (-1, 0.5), and "
-            << "Method Mass-Spring runs Corotated at any.";
+    message << "PoissonRatio " << s.elasticity.poissonRatio << " gives " << name << "'s hydrostatic "
+            << "constraint a negative stiffness, which XPBD cannot take as a compliance. Under XPBD "
+            << "Corotated needs PoissonRatio in [0, 0.5) and Stable Neo-Hookean in [-0.5, 0.5); "
+            << "Method Mass-Spring runs both at any PoissonRatio in (-1, 0.5).";
     throw InvalidInputError(message.str());
   }
-  check::inRange("PoissonRatio", s.elasticity.poissonRatio, -1.0, 0.5, true, true);
   if (s.breakingStrain > 0.0 || s.plasticYield > 0.0)
   {
     std::ostringstream message;
