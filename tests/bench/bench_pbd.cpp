@@ -44,7 +44,7 @@ double solveSeconds(const PbdSimulation& sim)
 {
   const StepPlan& plan = sim.stepPlan();
   double seconds = 0.0;
-  for (Stage stage : { Stage::SolveLinks, Stage::SolveVolumes, Stage::SolveAttachments, Stage::SolveContacts })
+  for (Stage stage : { Stage::SolveLinks, Stage::SolveTetElasticity, Stage::SolveVolumes, Stage::SolveAttachments, Stage::SolveContacts })
   {
     seconds += plan.runs(stage) ? plan.seconds(stage) : 0.0;
   }

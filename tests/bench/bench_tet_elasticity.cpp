@@ -4,6 +4,8 @@
 //     computeTetElasticForces for Corotated and Stable Neo-Hookean);
 //   - Newton: one evaluation of the incremental potential plus the assembly of its
 //     PSD-projected Hessian (what Implicit Euler does per Newton iteration);
+//   - XPBD: one Gauss-Seidel iteration over the body's constraints (the network's edge links and
+//     tet volumes, or each continuum tet's deviatoric and hydrostatic pair), 1 thread;
 //   - the bandwidth bound of the continuum force pass: the bytes it must move per tet (points
 //     read, shape gradients and constants read, corner forces written and gathered) over the
 //     triad bandwidth measured here (memory_bandwidth.h), as a time per tet.
@@ -23,6 +25,7 @@
 #include "softbody/material/tet_elastic_forces.h"
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/mesh/topology.h"
+#include "softbody/pbd/pbd_simulation.h"
 
 #include <algorithm>
 #include <chrono>
@@ -63,8 +66,41 @@ struct Row
 {
   std::string mesh, model;
   std::size_t tets = 0;
-  double forceNs = 0.0, newtonNs = 0.0;
+  double forceNs = 0.0, newtonNs = 0.0, xpbdNs = 0.0;
 };
+
+/// Seconds of one XPBD Gauss-Seidel iteration of `model` on the mesh (best of `repeat` steps of
+/// 10 iterations, the solve stages' own time).
+double xpbdIterationSeconds(const TetMesh& mesh, MaterialModel model, int repeat)
+{
+  PbdBody body;
+  body.points = mesh.points;
+  body.tets = mesh.tets;
+  PbdSettings settings;
+  const PhysicalMaterial material;
+  settings.elasticity = { true, material.youngsModulus, material.poissonRatio, model };
+  settings.collisions.mode = CollisionMode::Off;
+  settings.reportConvergence = false;
+  PbdSimulation sim(body, settings);
+  const StepPlan& plan = sim.stepPlan();
+  const auto solving = [&] {
+    double seconds = 0.0;
+    for (Stage stage : { Stage::SolveLinks, Stage::SolveTetElasticity, Stage::SolveVolumes })
+    {
+      seconds += plan.runs(stage) ? plan.seconds(stage) : 0.0;
+    }
+    return seconds;
+  };
+  sim.step(1.0 / 120.0); // warm-up
+  double best = 1e300;
+  for (int k = 0; k < repeat; ++k)
+  {
+    const double before = solving();
+    sim.step(1.0 / 120.0);
+    best = std::min(best, (solving() - before) / settings.iterations);
+  }
+  return best;
+}
 
 MaterialSettings materialOf(MaterialModel model)
 {
@@ -83,8 +119,8 @@ int main(int argc, char** argv)
   std::printf("triad bandwidth %.2f GB/s\n", bandwidth * 1e-9);
   std::vector<Row> rows;
   std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
-  std::printf("%-22s %8s  %-18s %10s %8s %12s %8s\n", "mesh", "tets", "model", "force ns/t",
-    "x net", "Newton ns/t", "x net");
+  std::printf("%-22s %8s  %-18s %10s %8s %12s %8s %10s %8s\n", "mesh", "tets", "model", "force ns/t",
+    "x net", "Newton ns/t", "x net", "XPBD ns/t", "x net");
   for (bench::NamedMesh& named : meshes)
   {
     std::vector<std::string> warnings;
@@ -95,7 +131,7 @@ int main(int argc, char** argv)
     const std::vector<Vec3> x = mesh.points;
     const std::vector<Vec3> v(x.size(), Vec3(0.01, 0.0, -0.02));
     std::vector<Vec3> out, gradient;
-    double networkForce = 0.0, networkNewton = 0.0;
+    double networkForce = 0.0, networkNewton = 0.0, networkXpbd = 0.0;
     for (MaterialModel model :
       { MaterialModel::SpringNetwork, MaterialModel::Corotated, MaterialModel::StableNeoHookean })
     {
@@ -134,16 +170,18 @@ int main(int argc, char** argv)
         potential->evaluate(x, gradient);
         potential->assembleHessian(x, hessian);
       });
+      const double xpbd = xpbdIterationSeconds(mesh, model, std::min(repeat, 3));
       const double perTet = 1e9 / static_cast<double>(tets);
-      Row row{ named.name, materialModelName(model), tets, force * perTet, newton * perTet };
+      Row row{ named.name, materialModelName(model), tets, force * perTet, newton * perTet, xpbd * perTet };
       if (!isContinuum(model))
       {
         networkForce = row.forceNs;
         networkNewton = row.newtonNs;
+        networkXpbd = row.xpbdNs;
       }
-      std::printf("%-22s %8zu  %-18s %10.1f %8.2f %12.1f %8.2f\n", row.mesh.c_str(), tets,
+      std::printf("%-22s %8zu  %-18s %10.1f %8.2f %12.1f %8.2f %10.1f %8.2f\n", row.mesh.c_str(), tets,
         row.model.c_str(), row.forceNs, row.forceNs / networkForce, row.newtonNs,
-        row.newtonNs / networkNewton);
+        row.newtonNs / networkNewton, row.xpbdNs, row.xpbdNs / networkXpbd);
       rows.push_back(row);
     }
     const double bytes = kBytesPerTet;
@@ -186,11 +224,11 @@ int main(int argc, char** argv)
     inverted);
 
   std::ofstream csv(options.csv);
-  csv << "mesh,tets,model,force_ns_per_tet,newton_ns_per_tet\n";
+  csv << "mesh,tets,model,force_ns_per_tet,newton_ns_per_tet,xpbd_iteration_ns_per_tet\n";
   for (const Row& row : rows)
   {
     csv << row.mesh << ',' << row.tets << ',' << row.model << ',' << row.forceNs << ','
-        << row.newtonNs << '\n';
+        << row.newtonNs << ',' << row.xpbdNs << '\n';
   }
   csv << "# bandwidth_GBps," << bandwidth * 1e-9 << "\n";
   csv << "# implicit_snh," << landing.name << ',' << landing.mesh.tets.size() << ','
@@ -199,9 +237,10 @@ int main(int argc, char** argv)
   // The same as a table for docs/performance.md (scripts/update_docs_tables.py), beside the CSV.
   const std::string md = bench::tableBeside(options.csv);
   std::ofstream table(md);
-  table << "| mesh | tets | material model | forces [ns/tet] | x network | Newton pass [ns/tet] | x network |\n"
-           "|---|---|---|---|---|---|---|\n";
-  double forceBase = 1.0, newtonBase = 1.0;
+  table << "| mesh | tets | material model | forces [ns/tet] | x network | Newton pass [ns/tet] | x network "
+           "| XPBD iteration [ns/tet] | x network |\n"
+           "|---|---|---|---|---|---|---|---|---|\n";
+  double forceBase = 1.0, newtonBase = 1.0, xpbdBase = 1.0;
   char line[256];
   for (const Row& row : rows)
   {
@@ -209,9 +248,11 @@ int main(int argc, char** argv)
     {
       forceBase = row.forceNs;
       newtonBase = row.newtonNs;
+      xpbdBase = row.xpbdNs;
     }
-    std::snprintf(line, sizeof line, "| %s | %zu | %s | %.1f | %.2f | %.1f | %.2f |\n", row.mesh.c_str(),
-      row.tets, row.model.c_str(), row.forceNs, row.forceNs / forceBase, row.newtonNs, row.newtonNs / newtonBase);
+    std::snprintf(line, sizeof line, "| %s | %zu | %s | %.1f | %.2f | %.1f | %.2f | %.1f | %.2f |\n",
+      row.mesh.c_str(), row.tets, row.model.c_str(), row.forceNs, row.forceNs / forceBase, row.newtonNs,
+      row.newtonNs / newtonBase, row.xpbdNs, row.xpbdNs / xpbdBase);
     table << line;
   }
   std::snprintf(line, sizeof line, "\nBandwidth bound of the continuum force pass: %.1f ns/tet at the "
