@@ -272,6 +272,7 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   // substep to where the condition puts them.
   Conditions = BoundaryConditions(std::move(body.conditions), body.points, topology.tets, bodyMass, Warnings);
   Conditions.setMasses(mass);
+  PointMass = mass; // held points keep their mass for the reactions (their inverse mass is 0)
   const std::vector<char> held = Conditions.fullyHeld();
   InverseMass.assign(n, 0.0);
   Movable.assign(n, 1);
@@ -327,6 +328,23 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   labelBodies();
   setUpCollisions(topology.tets, body.surfaceTriangles);
   replan();
+  if (!Conditions.heldAxes().empty() && !constraintsHaveForces())
+  {
+    std::ostringstream message;
+    message << "The supports' reactions are not reported (no Reaction output): ";
+    if (Settings.formulation == PbdFormulation::Pbd)
+    {
+      message << "PBD's stiffnesses in [0, 1] are no forces. XPBD reports them.";
+    }
+    else
+    {
+      message << "a constraint type is rigid (XPBDLinkCompliance " << Settings.links.compliance
+              << " m/N, XPBDVolumeCompliance " << Settings.volumes.compliance
+              << " m^3/Pa), and a rigid constraint has no force to report. Give it a compliance, "
+                 "or XPBDMaterial Young's Modulus.";
+    }
+    Warnings.push_back(message.str());
+  }
   // Rest lengths and broken flags are state (snapshotted, restored) only where they change.
   if (Plan.runs(Stage::UpdateLinks))
   {

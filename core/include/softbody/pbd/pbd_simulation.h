@@ -46,6 +46,9 @@ public:
   double totalMass() const override { return TotalMass; }
   std::vector<double> tetVolumeRatios() const override;
   TetStressField stressField() const override;
+  /// XPBD with compliant constraints: the supports' reactions from the constraints' elastic
+  /// forces at the current state (pbd_reactions.cpp); PBD and rigid constraints have none.
+  ConditionReadout conditionReadout() const override;
   double elasticEnergy() const override;
   double stepSize() const override { return Step; }
   double estimatedStableStep() const override { return 0.0; }
@@ -133,12 +136,17 @@ private:
   void setComplianceFromElasticity(const Topology& topology, const std::vector<Vec3>& rest);
   void setUpTetElasticity(const Topology& topology, const std::vector<Vec3>& rest);
   void checkDivergence() const;
+  /// Reactions (pbd_reactions.cpp): whether every planned constraint type has a compliance, so
+  /// that its force C / alpha along its gradient is defined, and those forces at x.
+  bool constraintsHaveForces() const;
+  void elasticForces(const std::vector<Vec3>& x, std::vector<Vec3>& forces) const;
 
   PbdSettings Settings;
   std::vector<Vec3> Rest;
   BoundaryConditions Conditions; ///< loads and held points (scene/boundary_conditions.h)
   std::vector<Vec3> LoadForce; ///< the conditions' loads of the substep [N]
   std::vector<double> InverseMass;
+  std::vector<double> PointMass; ///< [kg], held points included
   std::vector<char> Movable;
   std::vector<std::int32_t> BodyOf; ///< point -> connected body (links and tet edges)
   std::vector<std::int32_t> BodyFirstPoint; ///< body -> its lowest point index
