@@ -130,13 +130,7 @@ void expectPatchTest(const Mat3& a)
     body.pinned = boundary;
     MassSpringSimulation sim(body, staticScene());
     DynamicState start = sim.state();
-    for (std::size_t i = 0; i < start.positions.size(); ++i)
-    {
-      if (boundary[i])
-      {
-        start.positions[i] = a * cube.points[i] + b;
-      }
-    }
+    test::placeOnAffineMap(start.positions, cube.points, boundary, a, b);
     sim.restoreState(start);
     sim.advance(0.1);
     double worst = 0.0;

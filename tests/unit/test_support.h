@@ -102,4 +102,18 @@ inline std::vector<Vec3> randomVectors(std::size_t count, double amplitude, unsi
   return jitter(std::vector<Vec3>(count, Vec3::Zero()), amplitude, seed);
 }
 
+/// The patch test's start: the flagged points of `positions` moved to a X + b of their rest
+/// places X, the others left as they are.
+inline void placeOnAffineMap(std::vector<Vec3>& positions, const std::vector<Vec3>& rest,
+  const std::vector<char>& flagged, const Eigen::Matrix3d& a, const Vec3& b)
+{
+  for (std::size_t i = 0; i < positions.size(); ++i)
+  {
+    if (flagged[i])
+    {
+      positions[i] = a * rest[i] + b;
+    }
+  }
+}
+
 } // namespace softbody::test

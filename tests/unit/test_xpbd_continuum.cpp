@@ -303,13 +303,7 @@ TEST(XpbdContinuum, PatchTestConvergesToTheAffineMapAsSubstepsShrink)
       settings.substeps = substeps[k];
       PbdSimulation sim(body, settings);
       DynamicState start = sim.state();
-      for (std::size_t i = 0; i < start.positions.size(); ++i)
-      {
-        if (boundary[i])
-        {
-          start.positions[i] = a * cube.points[i] + b;
-        }
-      }
+      test::placeOnAffineMap(start.positions, cube.points, boundary, a, b);
       sim.restoreState(start);
       sim.advance(2.0);
       for (std::size_t i = 0; i < cube.points.size(); ++i)
