@@ -27,9 +27,31 @@ std::unique_ptr<softbody::Simulation> vtkSoftBodyPbdAdapter::Create(
   {
     return nullptr;
   }
-  body.density = coreSettings.PbdDensity;
   body.conditions = coreSettings.Conditions;
-  body.massDistribution = coreSettings.PbdMassDistribution;
+  body.material = coreSettings.Material;
+  // The arrays have a value per input cell; core reads one per tet, and the input may mix tets
+  // with the line and vertex cells of links and particles.
+  softbody::CellMaterial perCell;
+  error = vtkSoftBodyInputConversion::ConvertCellMaterial(input, coreSettings.YoungsModulusArray,
+    coreSettings.PoissonRatioArray, coreSettings.DensityArray, perCell);
+  if (!error.empty())
+  {
+    return nullptr;
+  }
+  const auto perTet = [this](const std::vector<double>& values) {
+    std::vector<double> tets;
+    if (!values.empty())
+    {
+      tets.reserve(this->TetCells.size());
+      for (vtkIdType cell : this->TetCells)
+      {
+        tets.push_back(values[static_cast<std::size_t>(cell)]);
+      }
+    }
+    return tets;
+  };
+  body.material.cells = { perTet(perCell.youngsModulus), perTet(perCell.poissonRatio),
+    perTet(perCell.density) };
   softbody::PbdSettings settings = coreSettings.Pbd;
   // A Soft Body Voxelize lattice says how large its particles are: they then rest on the floor
   // with their surface, not their center.

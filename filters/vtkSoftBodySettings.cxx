@@ -147,6 +147,9 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
   s.relaxation = p.Relaxation;
   static_cast<softbody::Scene&>(s) = vtkSoftBodySettings::Scene(p);
   s.damping = p.VelocityDamping;
+  softbody::MaterialSettings& material = settings.Material;
+  material.physical.density = p.Density;
+  material.massDistribution = CoreMassDistribution(p.MassDistribution);
   // Each formulation reads only its own constants: PBD stiffnesses, XPBD compliances (or
   // Young's modulus), so the other's properties do not invalidate the cache.
   if (xpbd)
@@ -160,10 +163,10 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
                                "0 (compliances), 1 (Young's modulus)") == vtkSoftBodyFilter::XPBD_YOUNGS_MODULUS;
     if (fromModulus || softbody::isContinuum(model))
     {
-      s.elasticity.enabled = true;
-      s.elasticity.youngsModulus = p.YoungsModulus;
-      s.elasticity.poissonRatio = p.PoissonRatio;
-      s.elasticity.model = model;
+      s.elasticFromMaterial = true;
+      material.model = model;
+      material.physical.youngsModulus = p.YoungsModulus;
+      material.physical.poissonRatio = p.PoissonRatio;
     }
   }
   else
@@ -179,8 +182,6 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
     s.plasticCreep = p.PlasticCreep;
   }
   s.invertedTets = CoreInvertedTets(p.InvertedTets);
-  settings.PbdDensity = p.Density;
-  settings.PbdMassDistribution = CoreMassDistribution(p.MassDistribution);
 }
 } // namespace
 
@@ -322,19 +323,13 @@ vtkSoftBodyCoreSettings vtkSoftBodySettings::Convert(const vtkSoftBodyFilter::Pa
   }
   settings.Initial.velocityArray = arrayName(p.InitialVelocityArray);
   settings.Initial.displacementArray = arrayName(p.InitialDisplacementArray);
+  // Core checks each per-cell value, and refuses arrays the method would not read.
+  settings.YoungsModulusArray = arrayName(p.YoungsModulusArray);
+  settings.PoissonRatioArray = arrayName(p.PoissonRatioArray);
+  settings.DensityArray = arrayName(p.DensityArray);
   if (settings.Method == vtkSoftBodyFilter::MASS_SPRING)
   {
     ConvertMassSpring(p, settings);
-    settings.YoungsModulusArray = arrayName(p.YoungsModulusArray);
-    settings.PoissonRatioArray = arrayName(p.PoissonRatioArray);
-    settings.DensityArray = arrayName(p.DensityArray);
-  }
-  else if (!arrayName(p.YoungsModulusArray).empty() || !arrayName(p.PoissonRatioArray).empty() ||
-    !arrayName(p.DensityArray).empty())
-  {
-    throw softbody::InvalidInputError("Per-cell material arrays (YoungsModulusArray, "
-      "PoissonRatioArray, DensityArray) are read by Method Mass-Spring; PBD and XPBD take "
-      "uniform values. Set them to None, or Method to Mass-Spring.");
   }
   else
   {

@@ -30,7 +30,7 @@ struct vtkSoftBodyCoreSettings
   int Device = vtkSoftBodyFilter::DEVICE_CPU; ///< as asked for (Mass-Spring only; PBD runs on the CPU)
   double FrameInterval = 0.0;                 ///< frames are cached on this grid [s]
   std::string PinnedPointsArray;              ///< empty: nothing pinned
-  /// Cell arrays of per-cell YoungsModulus, PoissonRatio, Density (Mass-Spring); empty: uniform.
+  /// Cell arrays of per-cell YoungsModulus, PoissonRatio, Density; empty: uniform.
   std::string YoungsModulusArray, PoissonRatioArray, DensityArray;
   /// The initial state (vtkSoftBodyInitialState); empty array names: none.
   struct InitialState
@@ -43,14 +43,15 @@ struct vtkSoftBodyCoreSettings
   /// The Conditions input on the body (vtkSoftBodyConditionInput), in its point numbers.
   std::vector<softbody::Condition> Conditions;
 
+  /// The body's material, for every method (PBD and XPBD fill only what they read: density and
+  /// mass distribution, and under XPBD from Young's modulus the model, E and nu).
+  softbody::MaterialSettings Material;
+
   // Mass-Spring
   softbody::SceneSettings Scene;
-  softbody::MaterialSettings Material;
 
   // PBD / XPBD
   softbody::PbdSettings Pbd;
-  double PbdDensity = 0.0; ///< [kg/m^3] for bodies without a "Mass" point array
-  softbody::MassDistribution PbdMassDistribution = softbody::MassDistribution::AverageIncidentVolume;
 
   bool operator==(const vtkSoftBodyCoreSettings&) const = default;
 

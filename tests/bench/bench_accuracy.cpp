@@ -242,7 +242,7 @@ PbdBody pbdBodyOf(const BodyDescription& body)
   PbdBody p;
   p.points = body.mesh.points;
   p.tets = body.mesh.tets;
-  p.density = body.material.physical.density;
+  p.material.physical = body.material.physical; // density, and E and nu for XPBD
   p.pinned = body.pinned;
   return p;
 }
@@ -257,9 +257,7 @@ PbdSettings pbdSettingsOf(const BodyDescription& body, const SceneSettings& scen
   s.reportConvergence = false;
   if (xpbd)
   {
-    s.elasticity.enabled = true;
-    s.elasticity.youngsModulus = body.material.physical.youngsModulus;
-    s.elasticity.poissonRatio = body.material.physical.poissonRatio;
+    s.elasticFromMaterial = true;
   }
   return s;
 }
@@ -278,7 +276,7 @@ SimPtr makePbd(const LabScene& s, bool xpbd, PbdSolver solver, double relaxation
   PbdSettings settings = s.pbdSettings;
   const PbdSettings defaults = pbdSettingsOf(s.body, s.scene, xpbd);
   settings.formulation = defaults.formulation;
-  settings.elasticity = defaults.elasticity;
+  settings.elasticFromMaterial = defaults.elasticFromMaterial;
   settings.solver = solver;
   settings.relaxation = relaxation;
   settings.timeStep = h;
@@ -536,9 +534,9 @@ double xpbdContinuumAnswer(const LabScene& s, MaterialModel model,
   const std::function<double(const Simulation&)>& quantity)
 {
   PbdBody body = s.pbdBody;
-  body.massDistribution = MassDistribution::LumpedVolume;
+  body.material.massDistribution = MassDistribution::LumpedVolume;
+  body.material.model = model;
   PbdSettings settings = pbdSettingsOf(s.body, s.scene, true);
-  settings.elasticity.model = model;
   settings.iterations = 10;
   settings.substeps = 16;
   settings.damping = 5.0;

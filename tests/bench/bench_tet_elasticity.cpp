@@ -76,9 +76,9 @@ double xpbdIterationSeconds(const TetMesh& mesh, MaterialModel model, int repeat
   PbdBody body;
   body.points = mesh.points;
   body.tets = mesh.tets;
+  body.material.model = model; // E and nu: the material's defaults
   PbdSettings settings;
-  const PhysicalMaterial material;
-  settings.elasticity = { true, material.youngsModulus, material.poissonRatio, model };
+  settings.elasticFromMaterial = true;
   settings.collisions.mode = CollisionMode::Off;
   settings.reportConvergence = false;
   PbdSimulation sim(body, settings);

@@ -188,8 +188,8 @@ void pbd(FuzzedDataProvider& in, const Body& b)
     for (std::size_t i = 0; i < b.links.size(); ++i)
       body.linkStiffnessScale.push_back(anyValue(in, 1.0));
   }
-  body.density = anyValue(in, 1000.0);
-  body.massDistribution = anyEnum<softbody::MassDistribution>(in, 2);
+  body.material.physical.density = anyValue(in, 1000.0);
+  body.material.massDistribution = anyEnum<softbody::MassDistribution>(in, 2);
 
   softbody::PbdSettings s;
   s.formulation = anyEnum<softbody::PbdFormulation>(in, 2);
@@ -212,9 +212,9 @@ void pbd(FuzzedDataProvider& in, const Body& b)
   s.links = { anyValue(in, 1.0), anyValue(in, 1e-4) };
   s.volumes = { anyValue(in, 1.0), anyValue(in, 1e-10) };
   s.attachments = { anyValue(in, 1.0), in.ConsumeBool() ? 0.0 : anyValue(in, 1e-6) };
-  s.elasticity.enabled = in.ConsumeBool();
-  s.elasticity.youngsModulus = anyValue(in, 1e5);
-  s.elasticity.poissonRatio = anyValue(in, 0.3);
+  s.elasticFromMaterial = in.ConsumeBool();
+  body.material.physical.youngsModulus = anyValue(in, 1e5);
+  body.material.physical.poissonRatio = anyValue(in, 0.3);
   s.breakingStrain = in.ConsumeBool() ? 0.0 : anyValue(in, 0.5);
   s.plasticYield = in.ConsumeBool() ? 0.0 : anyValue(in, 0.1);
   s.plasticCreep = in.ConsumeBool() ? 0.0 : anyValue(in, 1.0);

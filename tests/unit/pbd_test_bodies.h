@@ -14,7 +14,7 @@ inline PbdBody pbdBoxBody(int n, double cell, const Vec3& origin = Vec3::Zero())
   PbdBody body;
   body.points = mesh.points;
   body.tets = mesh.tets;
-  body.density = 1000.0;
+  body.material.physical.density = 1000.0;
   return body;
 }
 

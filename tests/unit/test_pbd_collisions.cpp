@@ -319,10 +319,10 @@ TEST(PbdCollisions, BarFoldedOntoItselfDoesNotCrossItself)
   PbdBody bar;
   bar.points = mesh.points;
   bar.tets = mesh.tets;
+  bar.material.physical.youngsModulus = 2e5;
   PbdSettings settings = contactSettings(0.002);
   settings.formulation = PbdFormulation::Xpbd;
-  settings.elasticity.enabled = true;
-  settings.elasticity.youngsModulus = 2e5;
+  settings.elasticFromMaterial = true;
   settings.floorEnabled = true;
   settings.collisions.mode = CollisionMode::ObstaclesBodiesAndSelf;
   settings.collisions.staticFriction = settings.collisions.dynamicFriction = 0.5;

@@ -126,14 +126,15 @@ TEST(PbdConditions, XpbdSupportsCarryTheWeightOfABodyAtRest)
     {
       p.z() *= 4.0; // 2 x 2 x 2 cells stretched to a 0.1 x 0.1 x 0.4 m bar
     }
-    body.massDistribution = MassDistribution::LumpedVolume;
+    body.material.massDistribution = MassDistribution::LumpedVolume;
+    body.material.model = model;
     Condition top;
     top.name = "top";
     top.points = test::indicesWhere(body.points, [](const Vec3& p) { return p.z() > 0.4 - 1e-9; });
     body.conditions.push_back(top);
     PbdSettings settings = settingsOf(PbdFormulation::Xpbd, Vec3(0, 0, -9.81));
     settings.timeStep = 0.0;
-    settings.elasticity = { true, 1.0e5, 0.3, model };
+    settings.elasticFromMaterial = true; // E = 100 kPa, nu = 0.3: the material's defaults
     settings.substeps = 8;
     settings.damping = 2.0;
     PbdSimulation sim(body, settings);

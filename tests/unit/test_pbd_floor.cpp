@@ -15,7 +15,9 @@ namespace
 {
 PbdBody boxBody(int n, double cell, const Vec3& origin)
 {
-  return test::pbdBoxBody(n, cell, origin);
+  PbdBody body = test::pbdBoxBody(n, cell, origin);
+  body.material.physical.youngsModulus = 1e6; // read by XPBD (floorSettings), not by PBD
+  return body;
 }
 
 struct Motion
@@ -48,9 +50,7 @@ PbdSettings floorSettings(PbdFormulation formulation)
   settings.timeStep = 1e-3;
   if (formulation == PbdFormulation::Xpbd)
   {
-    settings.elasticity.enabled = true;
-    settings.elasticity.youngsModulus = 1e6;
-    settings.elasticity.poissonRatio = 0.3;
+    settings.elasticFromMaterial = true; // E = 1 MPa (boxBody), nu = 0.3
   }
   return settings;
 }

@@ -346,7 +346,7 @@ TEST(PbdSimulation, BreakableLinksBreakUnderAPullAndNeverAtRest)
   PbdBody bar;
   bar.points = column.points;
   bar.tets = column.tets;
-  bar.density = 20000.0;
+  bar.material.physical.density = 20000.0;
   bar.pinned.assign(bar.points.size(), 0);
   for (std::size_t i = 0; i < bar.points.size(); ++i)
   {
@@ -519,7 +519,7 @@ TEST(PbdSimulation, ResumingWithPlasticAndBrokenLinksReproducesTheRunExactly)
   PbdBody bar;
   bar.points = column.points;
   bar.tets = column.tets;
-  bar.density = 20000.0;
+  bar.material.physical.density = 20000.0;
   bar.pinned.assign(bar.points.size(), 0);
   for (std::size_t i = 0; i < bar.points.size(); ++i)
   {
@@ -699,9 +699,9 @@ TEST(PbdSimulation, XpbdFromElasticityRestsWhereMassSpringRests)
   particles.points = bar.points;
   particles.tets = bar.tets;
   particles.pinned = top;
-  particles.density = rho;
+  particles.material.physical = { E, nu, rho, 0.0 };
   PbdSettings settings;
-  settings.elasticity = { true, E, nu };
+  settings.elasticFromMaterial = true;
   settings.iterations = 20;
   settings.substeps = 4;
   settings.damping = 10.0;
@@ -779,9 +779,9 @@ TEST(PbdSimulation, CantileverSagAgainstBeamTheoryForEachMethod)
   particles.points = bar.points;
   particles.tets = bar.tets;
   particles.pinned = clamped;
-  particles.density = rho;
+  particles.material.physical = { E, nu, rho, 0.0 };
   PbdSettings settings;
-  settings.elasticity = { true, E, nu };
+  settings.elasticFromMaterial = true;
   settings.iterations = 20;
   settings.substeps = 4;
   settings.damping = 10.0;

@@ -319,7 +319,7 @@ TEST(Reorder, PbdTetBodiesInInputOrderMatchTheRunAsGiven)
   PbdBody body;
   body.points = mesh.points;
   body.tets = mesh.tets;
-  body.density = 1000.0;
+  body.material.physical.density = 1000.0;
   for (PbdSolver solver : { PbdSolver::GaussSeidel, PbdSolver::Jacobi, PbdSolver::ParallelGaussSeidel })
   {
     PbdSettings settings;

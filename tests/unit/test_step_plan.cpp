@@ -29,7 +29,7 @@ PbdBody pbdBox()
   PbdBody body;
   body.points = mesh.points;
   body.tets = mesh.tets;
-  body.density = 1000.0;
+  body.material.physical.density = 1000.0;
   return body;
 }
 
@@ -131,12 +131,13 @@ TEST(PbdPlan, ZeroStiffnessVolumesAreNotSwept)
   // XPBD from Young's modulus: below Poisson's ratio 1/4 the volume term of the network
   // (lambda - mu) is not positive, so every tet compliance is infinite and nothing is swept.
   PbdSettings xpbd;
-  xpbd.elasticity.enabled = true;
-  xpbd.elasticity.poissonRatio = 0.2;
-  PbdSimulation soft(pbdBox(), xpbd);
+  xpbd.elasticFromMaterial = true;
+  PbdBody body = pbdBox();
+  body.material.physical.poissonRatio = 0.2;
+  PbdSimulation soft(body, xpbd);
   EXPECT_FALSE(planHas(soft, Stage::SolveVolumes));
-  xpbd.elasticity.poissonRatio = 0.4;
-  PbdSimulation stiff(pbdBox(), xpbd);
+  body.material.physical.poissonRatio = 0.4;
+  PbdSimulation stiff(body, xpbd);
   EXPECT_TRUE(planHas(stiff, Stage::SolveVolumes));
 }
 

@@ -106,20 +106,23 @@ void expectConstraintsAreTheLaw()
   EXPECT_LT(worstGradient, 1e-7) << Law::kName;
 }
 
-PbdBody pbdBodyOf(const TetMesh& mesh, double density)
+/// The mesh as a body of `model` with Young's modulus E [Pa], Poisson's ratio nu and density
+/// rho [kg/m^3], its mass lumped as the finite elements' is.
+PbdBody xpbdBody(const TetMesh& mesh, MaterialModel model, double E, double nu, double rho)
 {
   PbdBody body;
   body.points = mesh.points;
   body.tets = mesh.tets;
-  body.density = density;
-  body.massDistribution = MassDistribution::LumpedVolume;
+  body.material.model = model;
+  body.material.physical = { E, nu, rho, 0.0 };
+  body.material.massDistribution = MassDistribution::LumpedVolume;
   return body;
 }
 
-PbdSettings xpbdSettings(MaterialModel model, double youngsModulus, double poissonRatio)
+PbdSettings xpbdSettings()
 {
   PbdSettings settings;
-  settings.elasticity = { true, youngsModulus, poissonRatio, model };
+  settings.elasticFromMaterial = true;
   settings.collisions.mode = CollisionMode::Off;
   settings.reportConvergence = false;
   return settings;
@@ -154,8 +157,7 @@ TEST(XpbdContinuum, CoupledProjectionSolvesItsLinearizedConstraints)
   std::mt19937 rng(9);
   for (MaterialModel model : kModels)
   {
-    PbdSettings settings = xpbdSettings(model, 1.0e5, 0.3);
-    const PbdSimulation sim(pbdBodyOf(tet, 1000.0), settings);
+    const PbdSimulation sim(xpbdBody(tet, model, 1.0e5, 0.3, 1000.0), xpbdSettings());
     const TetElasticBatch& batch = sim.tetElasticity();
     ASSERT_GT(batch.size(), 0u);
     const Mat3 deform = randomDeformation(rng, 0.3);
@@ -225,9 +227,9 @@ std::vector<Vec3> staticSolve(const HangingBar& bar, MaterialModel model)
 
 std::vector<Vec3> xpbdAtRest(const HangingBar& bar, MaterialModel model, int substeps)
 {
-  PbdBody body = pbdBodyOf(bar.mesh, bar.density);
+  PbdBody body = xpbdBody(bar.mesh, model, bar.youngsModulus, bar.poissonRatio, bar.density);
   body.pinned = bar.top;
-  PbdSettings settings = xpbdSettings(model, bar.youngsModulus, bar.poissonRatio);
+  PbdSettings settings = xpbdSettings();
   settings.substeps = substeps;
   settings.damping = 5.0; // to rest within the run
   PbdSimulation sim(body, settings);
@@ -295,9 +297,9 @@ TEST(XpbdContinuum, PatchTestConvergesToTheAffineMapAsSubstepsShrink)
     const std::array<int, 3> substeps{ 1, 2, 4 };
     for (std::size_t k = 0; k < 3; ++k)
     {
-      PbdBody body = pbdBodyOf(cube, 1000.0);
+      PbdBody body = xpbdBody(cube, model, 1.0e5, 0.3, 1000.0);
       body.pinned = boundary;
-      PbdSettings settings = xpbdSettings(model, 1.0e5, 0.3);
+      PbdSettings settings = xpbdSettings();
       settings.gravity = Vec3::Zero();
       settings.damping = 10.0;
       settings.substeps = substeps[k];
@@ -329,11 +331,11 @@ TEST(XpbdContinuum, CrushedAndInvertedBodyRecoversItsRestShape)
   const TetMesh box = makeTetBox(3, 3, 3, 0.1);
   for (MaterialModel model : kModels)
   {
-    PbdSettings settings = xpbdSettings(model, 1.0e5, 0.3);
+    PbdSettings settings = xpbdSettings();
     settings.gravity = Vec3::Zero();
     settings.damping = 5.0;
     settings.substeps = 4;
-    PbdSimulation sim(pbdBodyOf(box, 1000.0), settings);
+    PbdSimulation sim(xpbdBody(box, model, 1.0e5, 0.3, 1000.0), settings);
     DynamicState start = sim.state();
     for (Vec3& p : start.positions)
     {
@@ -363,12 +365,12 @@ std::vector<Vec3> landingAt(MaterialModel model, PbdSolver solver, int threads, 
   {
     p.z() += 0.1;
   }
-  PbdSettings settings = xpbdSettings(model, 1.0e5, 0.3);
+  PbdSettings settings = xpbdSettings();
   settings.collisions.mode = CollisionMode::ObstaclesAndBodies;
   settings.floorEnabled = true;
   settings.solver = solver;
   settings.substeps = 2;
-  PbdSimulation sim(pbdBodyOf(box, 1000.0), settings);
+  PbdSimulation sim(xpbdBody(box, model, 1.0e5, 0.3, 1000.0), settings);
   inverted = 0;
   for (int frame = 1; frame <= 30; ++frame)
   {
@@ -407,18 +409,18 @@ TEST(XpbdContinuum, LandingIsTheSameAtAnyThreadCountAndInvertsNoTet)
 
 TEST(XpbdContinuum, RefusesWhatHasNoMeaningQuotingTheValue)
 {
-  const PbdBody body = pbdBodyOf(makeTetBox(2, 2, 2, 0.1), 1000.0);
-  PbdSettings settings = xpbdSettings(MaterialModel::Corotated, 1.0e5, -0.2);
+  PbdBody body = xpbdBody(makeTetBox(2, 2, 2, 0.1), MaterialModel::Corotated, 1.0e5, -0.2, 1000.0);
+  PbdSettings settings = xpbdSettings();
   EXPECT_NE(refusal(body, settings).find("PoissonRatio -0.2 gives Corotated's hydrostatic constraint a negative"),
     std::string::npos) << refusal(body, settings);
-  settings.elasticity.model = MaterialModel::StableNeoHookean;
+  body.material.model = MaterialModel::StableNeoHookean;
   EXPECT_EQ(refusal(body, settings), ""); // its kH = lambda - mu / 4 >= 0 down to nu = -0.5
-  settings.elasticity.poissonRatio = -0.7;
+  body.material.physical.poissonRatio = -0.7;
   EXPECT_NE(refusal(body, settings).find("PoissonRatio -0.7 gives Stable Neo-Hookean's hydrostatic"),
     std::string::npos) << refusal(body, settings);
-  settings.elasticity.poissonRatio = 0.5;
+  body.material.physical.poissonRatio = 0.5;
   EXPECT_NE(refusal(body, settings).find("0.5"), std::string::npos) << refusal(body, settings);
-  settings.elasticity.poissonRatio = 0.3;
+  body.material.physical.poissonRatio = 0.3;
   settings.formulation = PbdFormulation::Pbd;
   EXPECT_NE(refusal(body, settings).find("needs XPBD"), std::string::npos) << refusal(body, settings);
   settings.formulation = PbdFormulation::Xpbd;

@@ -65,7 +65,8 @@ std::string cellRefusal(const char* name, std::size_t cell, const std::string& r
     check::quote(value) + ".";
 }
 
-/// The per-cell values: sizes, then each value, a refusal naming the first bad cell.
+} // namespace
+
 void validateCells(const MaterialSettings& material, std::size_t tetCount,
   std::vector<std::string>& warnings)
 {
@@ -129,8 +130,6 @@ void validateCells(const MaterialSettings& material, std::size_t tetCount,
       "use a PoissonRatio of at most " + check::quote(kLockingPoissonRatio) + " if the material allows.");
   }
 }
-
-} // namespace
 
 const char* materialModelName(MaterialModel model)
 {

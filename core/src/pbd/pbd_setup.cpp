@@ -24,40 +24,62 @@ namespace softbody
 namespace
 {
 
-void validateElasticity(const PbdSettings& s)
+/// Whether the tets' constraints come from the body's material (XPBD: a continuum model always,
+/// the Spring Network when asked) rather than from the constraint types' compliances.
+bool constraintsFromMaterial(const PbdSettings& s, const MaterialSettings& material)
 {
-  check::positive("YoungsModulus", s.elasticity.youngsModulus, "Pa");
-  const MaterialModel model = s.elasticity.model;
-  const std::string name = materialModelName(model);
-  if (!isContinuum(model))
+  return s.formulation == PbdFormulation::Xpbd && (s.elasticFromMaterial || isContinuum(material.model));
+}
+
+/// What the body's material may ask of this formulation, refused with the reason and the
+/// pairing that works. Its values are checked cell by cell where the constants are computed
+/// (validateMaterial), as under Mass-Spring.
+void validateMaterialUse(const PbdSettings& s, const PbdBody& body)
+{
+  const MaterialSettings& material = body.material;
+  const std::string name = materialModelName(material.model);
+  if (material.mode != MaterialMode::Physical)
   {
-    check::inRange("PoissonRatio", s.elasticity.poissonRatio, 0.0, 0.5, false, true);
-    return;
+    throw InvalidInputError("PBD and XPBD read a Physical material (density, and under XPBD Young's "
+                            "modulus and Poisson's ratio); MaterialMode Raw is Mass-Spring's.");
   }
-  if (s.formulation != PbdFormulation::Xpbd)
+  if (isContinuum(material.model) && s.formulation != PbdFormulation::Xpbd)
   {
     throw InvalidInputError("MaterialModel " + name + " needs XPBD: its constraints' compliances "
       "come from Young's modulus, and PBD's stiffnesses in [0, 1] have no modulus. Use XPBD, or "
       "MaterialModel Spring Network with PBD's stiffnesses.");
   }
-  check::inRange("PoissonRatio", s.elasticity.poissonRatio, -1.0, 0.5, true, true);
-  // The hydrostatic constraint's compliance is 1 / (kH V0); kH < 0 (Corotated's lambda below
-  // nu = 0, Stable Neo-Hookean's lambda - mu / 4 below nu = -0.5) is no compliance.
-  const LameParameters linear = lameFromYoung(s.elasticity.youngsModulus, s.elasticity.poissonRatio);
-  const double kH = withElasticLaw(model, [&](auto law) {
-    using Law = decltype(law);
-    return ConstraintForm<Law>::hydrostaticStiffness(Law::fromLinear(linear));
-  });
-  if (kH < 0.0)
+  const CellMaterial& cells = material.cells;
+  if (!constraintsFromMaterial(s, material))
   {
-    std::ostringstream message;
-    message << "PoissonRatio " << s.elasticity.poissonRatio << " gives " << name << "'s hydrostatic "
-            << "constraint a negative stiffness, which XPBD cannot take as a compliance. Under XPBD "
-            << "Corotated needs PoissonRatio in [0, 0.5) and Stable Neo-Hookean in [-0.5, 0.5); "
-            << "Method Mass-Spring runs both at any PoissonRatio in (-1, 0.5).";
-    throw InvalidInputError(message.str());
+    if (!cells.youngsModulus.empty() || !cells.poissonRatio.empty())
+    {
+      throw InvalidInputError("Per-cell Young's moduli and Poisson's ratios set the tets' "
+        "constraints only when XPBD takes them from the material (XPBDMaterial Young's modulus, or "
+        "a continuum MaterialModel); with PBD's stiffnesses or XPBD's compliances they would be "
+        "ignored. Remove them (YoungsModulusArray and PoissonRatioArray None), or use XPBD with "
+        "XPBDMaterial Young's modulus.");
+    }
   }
-  if (s.breakingStrain > 0.0 || s.plasticYield > 0.0)
+  else
+  {
+    const PhysicalMaterial& m = material.physical;
+    check::positive("YoungsModulus", m.youngsModulus, "Pa");
+    if (isContinuum(material.model))
+    {
+      check::inRange("PoissonRatio", m.poissonRatio, -1.0, 0.5, true, true);
+    }
+    else
+    {
+      check::inRange("PoissonRatio", m.poissonRatio, 0.0, 0.5, false, true);
+    }
+  }
+  if (!cells.density.empty() && !body.pointMass.empty())
+  {
+    throw InvalidInputError("The body has both point masses (a \"Mass\" point array) and per-cell "
+      "densities; the masses would ignore the densities. Remove one of them.");
+  }
+  if (isContinuum(material.model) && (s.breakingStrain > 0.0 || s.plasticYield > 0.0))
   {
     std::ostringstream message;
     message << "BreakingStrain " << s.breakingStrain << " and PlasticYield " << s.plasticYield
@@ -66,6 +88,20 @@ void validateElasticity(const PbdSettings& s)
             << "Spring Network.";
     throw InvalidInputError(message.str());
   }
+}
+
+/// The hydrostatic constraint's compliance is 1 / (kH V0); kH < 0 (Corotated's lambda below
+/// nu = 0, Stable Neo-Hookean's lambda - mu / 4 below nu = -0.5) is no compliance. Refused
+/// quoting the Poisson's ratio, and the cell when it is a per-cell value.
+void refuseNegativeHydrostaticStiffness(MaterialModel model, double poissonRatio, const std::string& where)
+{
+  std::ostringstream message;
+  message << "PoissonRatio " << poissonRatio << where << " gives " << materialModelName(model)
+          << "'s hydrostatic constraint a negative stiffness, which XPBD cannot take as a "
+          << "compliance. Under XPBD Corotated needs PoissonRatio in [0, 0.5) and Stable "
+          << "Neo-Hookean in [-0.5, 0.5); Method Mass-Spring runs both at any PoissonRatio in "
+          << "(-1, 0.5).";
+  throw InvalidInputError(message.str());
 }
 
 void validateSettings(const PbdSettings& s)
@@ -91,10 +127,6 @@ void validateSettings(const PbdSettings& s)
   check::nonNegative("BreakingStrain", s.breakingStrain, "", "unbreakable");
   check::nonNegative("PlasticYield", s.plasticYield, "", "elastic");
   check::nonNegative("PlasticCreep", s.plasticCreep, "1/s");
-  if (s.elasticity.enabled)
-  {
-    validateElasticity(s);
-  }
 }
 
 bool hardAttachment(const PbdSettings& s)
@@ -109,6 +141,7 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   : Settings(settings)
 {
   validateSettings(Settings);
+  validateMaterialUse(Settings, body);
   Settings.floor.normal.normalize();
   const std::size_t n = body.points.size();
   if (n == 0)
@@ -149,7 +182,8 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
 
   // Distance links: tet edges first (the spring network's; a continuum model holds its tets by
   // their deformation instead), then the explicit links in input order.
-  const bool continuum = Settings.elasticity.enabled && isContinuum(Settings.elasticity.model);
+  const bool fromMaterial = constraintsFromMaterial(Settings, body.material);
+  const bool continuum = fromMaterial && isContinuum(body.material.model);
   if (!continuum)
   {
     for (const Edge& e : topology.edges)
@@ -204,11 +238,11 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   Volumes.lambda.assign(Volumes.size(), 0.0);
   if (continuum && !Volumes.tets.empty())
   {
-    setUpTetElasticity(topology, body.points);
+    setUpTetElasticity(topology, body.points, body.material);
   }
-  else if (Settings.elasticity.enabled && Settings.formulation == PbdFormulation::Xpbd && !Volumes.tets.empty())
+  else if (fromMaterial && !Volumes.tets.empty())
   {
-    setComplianceFromElasticity(topology, body.points);
+    setComplianceFromElasticity(topology, body.points, body.material);
   }
 
   // Masses: given per point, or density times the tet volumes.
@@ -230,22 +264,36 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   }
   else
   {
-    if (!(body.density > 0.0) || !std::isfinite(body.density))
-    {
-      throw InvalidInputError("Density must be positive.");
-    }
+    check::positive("Density", body.material.physical.density, "kg/m^3");
     if (Volumes.tets.empty())
     {
       throw InvalidInputError("A body of links only needs a point array \"Mass\" (the Soft Body "
                               "Cloth and Voxelize sources write one).");
     }
-    double volume = 0.0;
-    for (double v : Volumes.restVolume)
+    // Each tet's mass (rho_t V_t) is spread over its points, as under Mass-Spring; with a
+    // uniform density that is the rest volume in proportion.
+    std::vector<double> cellMasses;
+    double totalMass = 0.0;
+    if (body.material.cells.density.empty())
     {
-      volume += v;
+      for (double v : Volumes.restVolume)
+      {
+        totalMass += v;
+      }
+      totalMass *= body.material.physical.density;
     }
-    const PointMasses distributed = distributeMass(topology, Volumes.restVolume,
-      body.density * volume, body.massDistribution, 0.0, {});
+    else
+    {
+      validateCells(body.material, Volumes.size(), Warnings);
+      cellMasses = tetMasses(body.material, Volumes.restVolume);
+      for (double m : cellMasses)
+      {
+        totalMass += m;
+      }
+    }
+    const PointMasses distributed = distributeMass(topology,
+      cellMasses.empty() ? Volumes.restVolume : cellMasses, totalMass,
+      body.material.massDistribution, 0.0, {});
     mass = distributed.mass;
     for (const auto& e : Links.ends)
     {
@@ -408,13 +456,10 @@ void PbdSimulation::labelBodies()
   }
 }
 
-void PbdSimulation::setUpTetElasticity(const Topology& topology, const std::vector<Vec3>& rest)
+void PbdSimulation::setUpTetElasticity(
+  const Topology& topology, const std::vector<Vec3>& rest, const MaterialSettings& bodyMaterial)
 {
-  MaterialSettings material;
-  material.model = Settings.elasticity.model;
-  material.mode = MaterialMode::Physical;
-  material.physical.youngsModulus = Settings.elasticity.youngsModulus;
-  material.physical.poissonRatio = Settings.elasticity.poissonRatio;
+  MaterialSettings material = bodyMaterial;
   material.physical.dampingTime = 0.0; // XPBD damps through VelocityDamping
   ElasticTopology = topology;
   ElasticConstants = computeTetElasticConstants(topology, rest, material, Warnings);
@@ -433,9 +478,15 @@ void PbdSimulation::setUpTetElasticity(const Topology& topology, const std::vect
       const LameParameters& p = ElasticConstants.law[t];
       const double volume = ElasticConstants.restVolume[t];
       const double kH = Form::hydrostaticStiffness(p);
+      if (kH < 0.0)
+      {
+        refuseNegativeHydrostaticStiffness(material.model, material.physicalOf(t).poissonRatio,
+          material.cells.poissonRatio.empty() ? "" : " (cell " + std::to_string(t) + ")");
+      }
       TetElastic.restJ[t] = Form::restJ(p);
       TetElastic.deviatoricCompliance[t] = 1.0 / (Form::deviatoricStiffness(p) * volume);
-      TetElastic.hydrostaticCompliance[t] = kH > 0.0 ? 1.0 / (kH * volume) : std::numeric_limits<double>::infinity();
+      TetElastic.hydrostaticCompliance[t] =
+        kH > 0.0 ? 1.0 / (kH * volume) : std::numeric_limits<double>::infinity();
     }
   });
   TetElastic.lambda.assign(tetCount, TetElasticMultipliers::Zero());
@@ -445,12 +496,10 @@ void PbdSimulation::setUpTetElasticity(const Topology& topology, const std::vect
   Volumes.compliance.assign(Volumes.size(), std::numeric_limits<double>::infinity());
 }
 
-void PbdSimulation::setComplianceFromElasticity(const Topology& topology, const std::vector<Vec3>& rest)
+void PbdSimulation::setComplianceFromElasticity(
+  const Topology& topology, const std::vector<Vec3>& rest, const MaterialSettings& bodyMaterial)
 {
-  MaterialSettings material;
-  material.mode = MaterialMode::Physical;
-  material.physical.youngsModulus = Settings.elasticity.youngsModulus;
-  material.physical.poissonRatio = Settings.elasticity.poissonRatio;
+  MaterialSettings material = bodyMaterial;
   material.physical.dampingTime = 0.0;
   // The mass-spring constants are k / l0^2 [N/m] per edge and k_V / V0^2 per tet: exactly the
   // stiffness of C = l - l0 and C = V - V0, so the compliances are their inverses.

@@ -128,6 +128,11 @@ struct ElementConstants
 void validateMaterial(const MaterialSettings& material, std::vector<std::string>& warnings,
   std::size_t tetCount = 0);
 
+/// The per-cell values alone (validateMaterial's first part): sizes against `tetCount`, then each
+/// value, a refusal naming the first bad cell; warnings for raised or nearly incompressible ones.
+void validateCells(const MaterialSettings& material, std::size_t tetCount,
+  std::vector<std::string>& warnings);
+
 /// The mass of each tet, rho_t V_t [kg] (what distributeMass spreads over the points).
 std::vector<double> tetMasses(const MaterialSettings& material, const std::vector<double>& restVolume);
 

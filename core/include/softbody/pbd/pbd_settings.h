@@ -4,7 +4,6 @@
 #pragma once
 
 #include "softbody/common/geometry.h"
-#include "softbody/material/material.h" // MaterialModel
 #include "softbody/mesh/tet_mesh.h" // InvertedTetPolicy
 #include "softbody/scene/scene.h"
 
@@ -67,21 +66,14 @@ struct PbdSettings : Scene
   ConstraintMaterial volumes;     ///< tet volume (C = V - V0 in m^3): compliance in m^3/Pa
   ConstraintMaterial attachments; ///< soft pins: compliance in m/N
 
-  /// XPBD only: the tets' constraints from Young's modulus and Poisson's ratio, so both methods
-  /// minimize the same elastic energy and a converged XPBD body rests where the mass-spring one
-  /// of the same model does. The spring network derives every tet edge's and tet's compliance
+  /// XPBD only: the Spring Network's tet edges and volumes take their compliances from the
+  /// body's material (PbdBody::material: Young's modulus, Poisson's ratio, per tet or uniform)
   /// as the mass-spring model derives its stiffnesses (k_D = 15 mu V_e, k_V = (lambda - mu) V_t,
-  /// material.h); a continuum model gives each tet its deviatoric and hydrostatic constraints
-  /// (material/constraint_forms.h) instead of edges and a volume. Explicit links keep
-  /// `links.compliance`.
-  struct Elasticity
-  {
-    bool enabled = false;
-    double youngsModulus = 1.0e5; ///< [Pa]
-    double poissonRatio = 0.3;
-    MaterialModel model = MaterialModel::SpringNetwork;
-    bool operator==(const Elasticity&) const = default;
-  } elasticity;
+  /// material.h), so both methods minimize the same elastic energy; otherwise `links` and
+  /// `volumes` give them. A continuum model always takes its tets' deviatoric and hydrostatic
+  /// constraints (material/constraint_forms.h) from the material, whatever this says. Explicit
+  /// links keep `links.compliance`.
+  bool elasticFromMaterial = false;
 
   /// A link breaks when |l - l0| / l0 (l0 its original rest length) passes this; 0 = unbreakable.
   double breakingStrain = 0.0;

@@ -133,8 +133,10 @@ private:
   /// LinkSlot / VolumeSlot and TetEdges with it.
   void storeLinksInOrder(const std::vector<std::int32_t>& order);
   void storeVolumesInOrder(const std::vector<std::int32_t>& order);
-  void setComplianceFromElasticity(const Topology& topology, const std::vector<Vec3>& rest);
-  void setUpTetElasticity(const Topology& topology, const std::vector<Vec3>& rest);
+  void setComplianceFromElasticity(
+    const Topology& topology, const std::vector<Vec3>& rest, const MaterialSettings& material);
+  void setUpTetElasticity(
+    const Topology& topology, const std::vector<Vec3>& rest, const MaterialSettings& material);
   void checkDivergence() const;
   /// Reactions (pbd_reactions.cpp): whether every planned constraint type has a compliance, so
   /// that its force C / alpha along its gradient is defined, and those forces at x.
