@@ -175,13 +175,15 @@ TEST(ContinuumSolids, PatchTestReproducesAnAffineDeformationInside)
   }
 }
 
-TEST(ContinuumSolids, NewtonConvergesSuperlinearlyOnTheStaticSolve)
+TEST(ContinuumSolids, NewtonConvergesQuadraticallyOnTheStaticSolve)
 {
-  // A soft bar (strain ~10 %) hanging from rest in one static solve. Newton is not quadratic
-  // here, and cannot be: both laws have twist eigenvalues of exactly 0 at rest, so wherever a
-  // tet is a little compressed the PSD projection clamps them and the Hessian is not the exact
-  // one. What it does is converge superlinearly: every late iteration (before the precision
-  // floor) cuts the residual more than tenfold, and the order log r_k+1 / log r_k stays above 1.3 (measured 1.4-1.6, printed).
+  // A soft bar (strain ~10 %) hanging from rest in one static solve. Near the solution Newton
+  // takes the law's exact Hessian; with the PSD projection alone the tail is linear (each
+  // iteration cuts the residual about 30-fold whatever its size: both laws' twist eigenvalues
+  // are 0 at rest, and the projection clamps them in every slightly compressed tet). With
+  // rho_k = r_k / r_0, every iteration of the tail (rho_k < 1e-3, before the floor of double
+  // precision) must cut the residual by at least sqrt(rho_k): order 1.5 or better, which a
+  // linear rate fails within two iterations.
   for (MaterialModel model : kContinuumModels)
   {
     BodyDescription body = bodyOf(makeTetBox(2, 2, 10, 0.02), model, 0.0);
@@ -193,25 +195,25 @@ TEST(ContinuumSolids, NewtonConvergesSuperlinearlyOnTheStaticSolve)
     MassSpringSimulation sim(body, scene);
     sim.advance(0.1);
     const std::vector<double>& r = sim.implicitConvergence()->residualHistory;
-    ASSERT_GE(r.size(), 5u);
-    double bestOrder = 0.0;
+    ASSERT_GE(r.size(), 4u);
     std::string history;
-    for (std::size_t k = 0; k + 1 < r.size(); ++k)
+    for (double value : r)
     {
       history += ' ';
-      history += check::quote(r[k]);
-      if (r[k] < 1e-2 && r[k + 1] > 1e-13)
+      history += check::quote(value / r.front());
+    }
+    std::printf("%s: residual over the first%s\n", materialModelName(model), history.c_str());
+    int tail = 0;
+    for (std::size_t k = 0; k + 1 < r.size(); ++k)
+    {
+      const double rho = r[k] / r.front(), next = r[k + 1] / r.front();
+      if (rho < 1e-3 && next > 1e-12)
       {
-        bestOrder = std::max(bestOrder, std::log(r[k + 1]) / std::log(r[k]));
+        ++tail;
+        EXPECT_LT(next / rho, std::sqrt(rho)) << materialModelName(model) << " iteration " << k;
       }
     }
-    std::printf("%s: residual history%s; best order %.2f\n", materialModelName(model), history.c_str(), bestOrder);
-    EXPECT_GT(bestOrder, 1.3) << materialModelName(model);
-    // The last iteration ends at the floor of double precision; the three before it are Newton's.
-    for (std::size_t k = r.size() - 4; k + 2 < r.size(); ++k)
-    {
-      EXPECT_LT(r[k + 1], 0.1 * r[k]) << materialModelName(model) << " iteration " << k;
-    }
+    EXPECT_GE(tail, 2) << materialModelName(model);
   }
 }
 

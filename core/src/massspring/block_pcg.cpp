@@ -92,7 +92,8 @@ PcgResult solveBlockPcg(const BlockSparseMatrix& A, const MotionFilter& filter,
     const double curvature = dot(s.direction, s.product);
     if (!(curvature > 0.0))
     {
-      break; // not positive definite along this direction (or breakdown): keep what we have
+      result.indefinite = true; // not positive definite along this direction (or breakdown)
+      break;                    // keep what we have
     }
     const double alpha = rz / curvature;
     parallelFor(n, kGrain, [&](std::size_t i) {

@@ -12,6 +12,8 @@ namespace
 {
 
 constexpr double kMaxForcing = 0.1; // CG's relative accuracy in the first Newton iterations
+/// Below this residual (relative to the step's start) Newton tries the exact Hessian.
+constexpr double kExactHessianBelow = 1e-2;
 
 } // namespace
 
@@ -59,19 +61,42 @@ void ImplicitEulerStepper::step(double h, DynamicState& state, StepPlan& plan)
   const auto newtonDirection = [&](const ImplicitStepSolver::Iterate& at,
                                  std::vector<Vec3>& direction) {
     const double residual = at.relativeResidual, goal = at.relativeGoal;
-    {
-      ScopedStageTimer timer(at.plan, Stage::Forces);
-      Potential->assembleHessian(at.x, Hessian);
-    }
-    ScopedStageTimer timer(at.plan, Stage::LinearSolve);
     // Solve only as well as this iteration can use: loosely far from the solution, tightly
     // near it (eta ~ r keeps Newton quadratic), never much below what the tolerance needs.
     const double forcing = std::min(kMaxForcing, std::max(residual, 0.5 * goal / residual));
     Rhs.resize(at.gradient.size());
     parallelFor(at.gradient.size(), 4096, [&](std::size_t i) { Rhs[i] = -at.gradient[i]; });
-    return solveBlockPcg(Hessian, at.filter, Rhs, forcing, kMaxLinearIterations, direction,
-      LinearWork, preconditioner(h))
-      .iterations;
+    // Near the solution the exact Hessian, where the model has one: the PSD projection clamps
+    // the slightly negative eigenvalues of every slightly compressed tet (both continuum laws'
+    // twist modes are 0 at rest), and that error alone keeps Newton from converging
+    // quadratically. Where the exact system is not positive definite along CG's path, or its
+    // direction does not descend, the projected one is solved instead.
+    bool exact = residual < kExactHessianBelow && Potential->hasExactHessian();
+    int iterations = 0;
+    for (;;)
+    {
+      {
+        ScopedStageTimer timer(at.plan, Stage::Forces);
+        Potential->assembleHessian(at.x, Hessian, exact);
+      }
+      ScopedStageTimer timer(at.plan, Stage::LinearSolve);
+      const PcgResult solved = solveBlockPcg(Hessian, at.filter, Rhs, forcing, kMaxLinearIterations,
+        direction, LinearWork, preconditioner(h));
+      iterations += solved.iterations;
+      if (!exact)
+      {
+        return iterations;
+      }
+      const double slope = parallelSum(direction.size(),
+        [&](std::size_t i) { return direction[i].dot(at.gradient[i]); });
+      if (!solved.indefinite && slope < 0.0)
+      {
+        ++ExactHessianSteps;
+        return iterations;
+      }
+      exact = false;
+      ++ExactHessianFallbacks;
+    }
   };
   Solver.step(h, state, plan, newtonDirection, Convergence);
 }

@@ -19,6 +19,7 @@ struct PcgResult
   int iterations = 0;
   double relativeResidual = 0.0; ///< ||b - A x|| / ||b|| at exit
   bool converged = false;
+  bool indefinite = false; ///< stopped at a direction of non-positive curvature
 };
 
 /// Work arrays reused across solves (no allocation in the step loop).

@@ -3,9 +3,10 @@
 // active set). Each Newton iteration solves H d = -grad Phi with block-Jacobi preconditioned
 // conjugate gradients (block_pcg.h; or with the coordinate preconditioner,
 // coordinate_preconditioner.h, when ImplicitSettings asks for it) on the assembled
-// PSD-projected Hessian, to a relative
-// accuracy that tightens as Newton converges (eta = min(0.1, r / r_0): quadratic convergence
-// where the Hessian is exact) but never much below what the tolerance needs. Stable at any
+// PSD-projected Hessian, or near the solution on the exact one where the model has it (the
+// continuum models), to a relative accuracy that tightens as Newton converges
+// (eta = min(0.1, r / r_0): quadratic convergence where the Hessian is exact) but never much
+// below what the tolerance needs. Stable at any
 // step, first order; its numerical dissipation grows with h (it damps the modes above ~1/h).
 #pragma once
 
@@ -39,6 +40,10 @@ public:
   const CoordinatePreconditioner* coordinatePreconditioner() const override { return Coordinate.get(); }
   /// CG iteration limit per Newton iteration.
   static constexpr int kMaxLinearIterations = 2000;
+  /// Newton iterations that took the exact Hessian's direction, and those that tried it and fell
+  /// back to the projected one (indefinite, or no descent), since construction.
+  long exactHessianSteps() const { return ExactHessianSteps; }
+  long exactHessianFallbacks() const { return ExactHessianFallbacks; }
 
 private:
   /// The coordinate preconditioner made ready for this system, or null for block Jacobi.
@@ -53,6 +58,8 @@ private:
   std::string PreconditionerWarning; ///< set when the factor failed: block Jacobi from then on
   std::vector<Vec3> Rhs;
   ImplicitConvergence Convergence;
+  long ExactHessianSteps = 0;
+  long ExactHessianFallbacks = 0;
 };
 
 } // namespace softbody

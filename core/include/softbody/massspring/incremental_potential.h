@@ -91,7 +91,11 @@ public:
 
   /// The PSD-projected Hessian at x, which must be the x of the last evaluate(); fixed rows get
   /// the identity. (Only Newton needs it, and only at accepted iterates: evaluate() skips it.)
-  virtual void assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian) = 0;
+  /// With `exact` (only where hasExactHessian()), the exact Hessian, which may be indefinite.
+  virtual void assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian, bool exact = false) = 0;
+  /// Whether every element family can give its exact Hessian (the continuum models; not the
+  /// spring network, whose volume terms are Gauss-Newton's).
+  virtual bool hasExactHessian() const = 0;
 
   /// Block coordinate descent (vertex_block_descent.h): Phi's gradient and the diagonal 3 x 3
   /// block of its PSD-projected Hessian with respect to point i alone, at positions `y` (point
@@ -173,7 +177,13 @@ public:
   }
 
   double evaluate(const std::vector<Vec3>& x, std::vector<Vec3>& gradient) override;
-  void assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian) override;
+  void assembleHessian(const std::vector<Vec3>& x, BlockSparseMatrix& hessian, bool exact = false) override;
+  bool hasExactHessian() const override
+  {
+    return []<std::size_t... I>(std::index_sequence<I...>) {
+      return (softbody::hasExactHessian<std::remove_cvref_t<std::tuple_element_t<I, Families>>>() && ...);
+    }(std::make_index_sequence<kFamilyCount>{});
+  }
 
 private:
   void addElementBlock(std::size_t i, const std::vector<Vec3>& y, Vec3& gradient, Mat3& hessian) const override;
@@ -327,9 +337,9 @@ void ModelPotential<Model>::findSlots(
 
 template <ElementModel Model>
 void ModelPotential<Model>::assembleHessian(
-  const std::vector<Vec3>& x, BlockSparseMatrix& hessian)
+  const std::vector<Vec3>& x, BlockSparseMatrix& hessian, bool exact)
 {
-  const StepStart start{ X0, H };
+  const StepStart start{ X0, H, exact && hasExactHessian() };
   forEachFamily([&](const auto& family, auto& data) {
     using F = std::remove_cvref_t<decltype(family)>;
     data.hessian.resize(family.size());

@@ -15,7 +15,10 @@
 //   hessianData,    the blocks d2E/dx_a dx_b [N/m] of a positive semi-definite approximation of
 //   hessianBlock    its Hessian (corner a, corner b; symmetric, H_ba = H_ab^T). How each family
 //                   projects its Hessian is written beside it (see incremental_potential.h's
-//                   header for the spring network's)
+//                   header for the spring network's). A family whose Hessian is exact without
+//                   the projection says so with `static constexpr bool kExactHessian = true`
+//                   and gives it when StepStart::exactHessian asks (Newton near its solution,
+//                   where the projection's clamping would cost its quadratic convergence)
 //   stiffnessBound  an upper bound, at rest, on sum_b |H_ab| (spectral norms) for corner a
 //                   [N/m]: the element's share of a Gershgorin bound on the stiffest mode, which
 //                   limits the stable step of the explicit integrators
@@ -60,7 +63,24 @@ struct StepStart
 {
   const std::vector<Vec3>& x0;
   double h;
+  /// hessianData: the element's exact Hessian, which may be indefinite, instead of its PSD
+  /// projection (only asked of families with kExactHessian).
+  bool exactHessian = false;
 };
+
+/// Whether family F gives its exact Hessian when asked (see the header comment).
+template <class F>
+constexpr bool hasExactHessian()
+{
+  if constexpr (requires { F::kExactHessian; })
+  {
+    return F::kExactHessian;
+  }
+  else
+  {
+    return false;
+  }
+}
 
 /// The operations of one element family (see the header comment for their meaning and units).
 template <class F>

@@ -78,6 +78,8 @@ class TetElasticFamily
 {
 public:
   static constexpr int kCorners = 4;
+  /// Unprojected, dP/dF from the analytic eigensystem is the law's exact derivative.
+  static constexpr bool kExactHessian = true;
   struct StepData
   {
     Mat3 f0; ///< F at the step's start: the viscous frame
@@ -146,7 +148,7 @@ public:
   {
     const TetElasticConstants& c = *Constants;
     const RotationVariantSvd svd = rotationVariantSvd(deformationGradient(*Topo, c, t, x));
-    Mat9 dpdf = stressDerivative<Law>(svd, c.law[t], true);
+    Mat9 dpdf = stressDerivative<Law>(svd, c.law[t], !start.exactHessian);
     if (c.damped && c.dampingTime[t] > 0.0)
     {
       dpdf += (c.dampingTime[t] / start.h) * viscousTensor(step.f0, c.linear[t]);
