@@ -51,6 +51,17 @@ def parse_args(description, extra=None):
     return args
 
 
+def mpi_environment():
+    """The environment for an `mpirun` started from pvpython: pvpython is an MPI singleton
+    itself, and its OMPI_/PMIX_ variables would make mpirun think it runs inside a job, so the
+    child starts without them (as root, oversubscribed, shared-memory transport only)."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_"))}
+    env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_btl="self,vader", OMPI_MCA_btl_vader_single_copy_mechanism="none",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    return env
+
+
 def fail(message):
     print("FAILED:", message, file=sys.stderr)
     sys.exit(1)

@@ -243,12 +243,7 @@ def run_serial_and_compare():
         # The same under MPI.
         result = os.path.join(work, "ranks")
         os.makedirs(result)
-        # pvpython is an MPI singleton itself: its OMPI_/PMIX_ variables would make mpirun think it
-        # runs inside a job, so the child starts from the environment without them.
-        env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_"))}
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-                   OMPI_MCA_btl="self,vader", OMPI_MCA_btl_vader_single_copy_mechanism="none",
-                   OMPI_MCA_rmaps_base_oversubscribe="1")
+        env = sbt.mpi_environment()
         command = [mpirun, "-np", "2", pvbatch, os.path.abspath(__file__), "--ranks", "--plugin",
                    args.plugin, "--data-dir", args.data_dir, "--input", two_bodies, "--out", result]
         print("running:", " ".join(command), flush=True)
