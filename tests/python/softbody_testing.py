@@ -62,6 +62,18 @@ def mpi_environment():
     return env
 
 
+def run_under_mpirun(command, timeout):
+    """Runs `command` (an mpirun command line) in mpi_environment(), prints its output, checks that
+    it exits with 0 and returns the output."""
+    import subprocess
+    print("running:", " ".join(command), flush=True)
+    run = subprocess.run(command, env=mpi_environment(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                         text=True, timeout=timeout)
+    print(run.stdout)
+    check(run.returncode == 0, f"{' '.join(command[:4])} ... exited with {run.returncode}")
+    return run.stdout
+
+
 def fail(message):
     print("FAILED:", message, file=sys.stderr)
     sys.exit(1)

@@ -25,7 +25,6 @@ total mass, and each body simulated whole on one rank. Five scenes:
 import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 
@@ -243,23 +242,18 @@ def run_serial_and_compare():
         # The same under MPI.
         result = os.path.join(work, "ranks")
         os.makedirs(result)
-        env = sbt.mpi_environment()
         command = [mpirun, "-np", "2", pvbatch, os.path.abspath(__file__), "--ranks", "--plugin",
                    args.plugin, "--data-dir", args.data_dir, "--input", two_bodies, "--out", result]
-        print("running:", " ".join(command), flush=True)
-        run = subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                             text=True, timeout=240)
-        print(run.stdout)
-        sbt.check(run.returncode == 0, f"mpirun -np 2 pvbatch exited with {run.returncode}")
+        output = sbt.run_under_mpirun(command, timeout=240)
         with open(os.path.join(result, "run.json")) as info_file:
             info = json.load(info_file)
         sbt.check(info["ranks"] == 2, f"the pvbatch side ran on 2 ranks (got {info['ranks']})")
         sbt.check(info["points_over_pieces"] > both.GetNumberOfPoints(),
                   f"RedistributeDataSet really cut the bodies ({info['points_over_pieces']} points over the pieces "
                   f"for {both.GetNumberOfPoints()}: interface points are in both)")
-        sbt.check("must meet each other: all 3 bodies are simulated on rank 0 of 2" in run.stdout,
+        sbt.check("must meet each other: all 3 bodies are simulated on rank 0 of 2" in output,
                   "the bodies scene says that its colliding bodies stay on rank 0")
-        sbt.check("Surface is skinned onto the bodies: all 3 bodies are simulated on rank 0 of 2" in run.stdout,
+        sbt.check("Surface is skinned onto the bodies: all 3 bodies are simulated on rank 0 of 2" in output,
                   "the surface scene says that its skinned bodies stay on rank 0")
 
         final = {}

@@ -15,7 +15,6 @@ import json
 import math
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 import time
@@ -103,15 +102,11 @@ def serial_side():
     os.makedirs(ranks_out)
     command = [mpirun, "-np", "2", pvbatch, "--symmetric", os.path.abspath(__file__), "--ranks",
                "--plugin", args.plugin, "--input", path, "--out", ranks_out]
-    print("running:", " ".join(command), flush=True)
-    run = subprocess.run(command, env=sbt.mpi_environment(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                         text=True, timeout=300)
-    print(run.stdout)
-    sbt.check(run.returncode == 0, f"mpirun -np 2 pvbatch --symmetric exited with {run.returncode}")
+    output = sbt.run_under_mpirun(command, timeout=300)
     with open(os.path.join(ranks_out, "run.json")) as info_file:
         info = json.load(info_file)
     sbt.check(info["ranks"] == 2, f"the pvbatch side ran on 2 ranks (got {info['ranks']})")
-    sbt.check("(rank 0)" in run.stdout and "(rank 1)" in run.stdout, "both ranks ran variants")
+    sbt.check("(rank 0)" in output and "(rank 1)" in output, "both ranks ran variants")
     with open(os.path.join(ranks_out, "sweep.csv")) as f:
         ranked = list(csv.DictReader(f))
     sbt.check(len(ranked) == len(table), f"the ranks' table has a row per variant ({len(ranked)})")

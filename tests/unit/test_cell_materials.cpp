@@ -55,15 +55,7 @@ struct HangingBar
 
 std::string refusal(const BodyDescription& body, const SceneSettings& scene)
 {
-  try
-  {
-    MassSpringSimulation sim(body, scene);
-  }
-  catch (const InvalidInputError& error)
-  {
-    return error.what();
-  }
-  return {};
+  return test::refusalOf<MassSpringSimulation>(body, scene);
 }
 
 } // namespace

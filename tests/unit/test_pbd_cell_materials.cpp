@@ -6,6 +6,7 @@
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/pbd/pbd_simulation.h"
+#include "static_equilibrium.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -60,13 +61,7 @@ struct TwoMaterialBar
     body.mesh = mesh;
     body.pinned = top;
     body.material = m;
-    SceneSettings scene;
-    scene.collisions.mode = CollisionMode::Off;
-    scene.integrator = Integrator::Static;
-    scene.implicit.tolerance = 1e-9;
-    MassSpringSimulation sim(body, scene);
-    sim.advance(0.1);
-    return bottomDrop(sim.positions());
+    return bottomDrop(test::staticEquilibrium(body));
   }
 
   double xpbdDrop(const MaterialSettings& m) const
@@ -90,15 +85,7 @@ struct TwoMaterialBar
 
 std::string refusal(const PbdBody& body, const PbdSettings& settings)
 {
-  try
-  {
-    PbdSimulation sim(body, settings);
-  }
-  catch (const InvalidInputError& error)
-  {
-    return error.what();
-  }
-  return {};
+  return test::refusalOf<PbdSimulation>(body, settings);
 }
 
 } // namespace

@@ -1,12 +1,14 @@
 // Small helpers shared by the unit tests.
 #pragma once
 
+#include "softbody/common/errors.h"
 #include "softbody/common/geometry.h"
 
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace softbody::test
@@ -26,6 +28,22 @@ inline std::vector<Vec3> jitter(std::vector<Vec3> points, double amplitude, unsi
 
 /// ../shared/data (the public meshes), or empty when the build was configured without it;
 /// tests skip with a message when it is empty or absent.
+/// The message of the InvalidInputError that building a `Simulation` from `args` throws, or ""
+/// when it builds.
+template <class Simulation, class... Args>
+std::string refusalOf(const Args&... args)
+{
+  try
+  {
+    Simulation simulation(args...);
+  }
+  catch (const InvalidInputError& error)
+  {
+    return error.what();
+  }
+  return {};
+}
+
 inline std::filesystem::path sharedData()
 {
 #ifdef SOFTBODY_SHARED_DATA_DIR

@@ -11,6 +11,7 @@
 #include "softbody/pbd/pbd_plan.h"
 #include "softbody/pbd/pbd_simulation.h"
 #include "softbody/pbd/pbd_tet_elastic_kernel.h"
+#include "static_equilibrium.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -130,15 +131,7 @@ PbdSettings xpbdSettings()
 
 std::string refusal(const PbdBody& body, const PbdSettings& settings)
 {
-  try
-  {
-    PbdSimulation sim(body, settings);
-  }
-  catch (const InvalidInputError& error)
-  {
-    return error.what();
-  }
-  return {};
+  return test::refusalOf<PbdSimulation>(body, settings);
 }
 
 } // namespace
@@ -216,13 +209,7 @@ std::vector<Vec3> staticSolve(const HangingBar& bar, MaterialModel model)
   body.material.model = model;
   body.material.physical = { bar.youngsModulus, bar.poissonRatio, bar.density, 0.0 };
   body.material.massDistribution = MassDistribution::LumpedVolume;
-  SceneSettings scene;
-  scene.collisions.mode = CollisionMode::Off;
-  scene.integrator = Integrator::Static;
-  scene.implicit.tolerance = 1e-9;
-  MassSpringSimulation sim(body, scene);
-  sim.advance(0.1);
-  return sim.positions();
+  return test::staticEquilibrium(body);
 }
 
 std::vector<Vec3> xpbdAtRest(const HangingBar& bar, MaterialModel model, int substeps)
