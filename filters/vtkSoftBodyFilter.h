@@ -240,9 +240,10 @@ public:
 
   ///@{
   /**
-   * Mass-Spring: FIXED_STEP (TimeStep, or the automatic step) or ERROR_CONTROLLED: each step
-   * chosen from a local error estimate so that the positions stay within ErrorTolerance [m]
-   * of the exact motion over each simulated second (> 0); TimeStep > 0 then bounds the step.
+   * Mass-Spring and XPBD: FIXED_STEP (TimeStep, or the automatic step) or ERROR_CONTROLLED:
+   * each step chosen from a local error estimate so that the positions stay within
+   * ErrorTolerance [m] of the exact motion over each simulated second (> 0); TimeStep > 0
+   * then bounds the step. PBD refuses it (its stiffness changes with the step).
    */
   vtkSoftBodyParameterMacro(TimeStepMode, int);
   vtkSoftBodyParameterMacro(ErrorTolerance, double);

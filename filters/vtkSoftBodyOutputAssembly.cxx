@@ -225,12 +225,9 @@ std::string vtkSoftBodyOutputAssembly::FillMesh(vtkUnstructuredGrid* input,
   {
     vtkSoftBodyImplicitReport::AddFields(*implicit, field);
   }
-  if (p.Method == vtkSoftBodyFilter::MASS_SPRING && p.TimeStepMode == vtkSoftBodyFilter::ERROR_CONTROLLED)
+  if (const softbody::StepControlReport* controller = simulation.stepControlReport())
   {
-    if (const softbody::MassSpringSimulation* massSpring = CpuMassSpring(built))
-    {
-      AddStepControlFields(massSpring->stepControlReport(), field);
-    }
+    AddStepControlFields(*controller, field);
   }
 
   // StageSeconds is parallel to Plan: each planned stage's accumulated wall time.

@@ -73,12 +73,6 @@ void ConvertMassSpring(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSe
   softbody::SceneSettings& scene = settings.Scene;
   scene.integrator = vtkSoftBodySettings::Integrator(p.Integrator);
   scene.timeStep = p.TimeStep;
-  if (Choice("TimeStepMode", p.TimeStepMode, 2, "0 (Fixed), 1 (Error-controlled)") ==
-    vtkSoftBodyFilter::ERROR_CONTROLLED)
-  {
-    scene.stepControl = softbody::StepControl::ErrorControlled;
-    scene.errorTolerance = p.ErrorTolerance;
-  }
   if (softbody::isImplicit(scene.integrator))
   {
     scene.implicit.tolerance = p.ImplicitTolerance;
@@ -129,14 +123,6 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
       ") runs under Method Mass-Spring and XPBD, whose stiffness comes from YoungsModulus and "
       "PoissonRatio; PBD's stiffnesses in [0, 1] have no modulus. Set Method to XPBD or "
       "Mass-Spring, or MaterialModel to Spring Network.");
-  }
-  if (Choice("TimeStepMode", p.TimeStepMode, 2, "0 (Fixed), 1 (Error-controlled)") !=
-    vtkSoftBodyFilter::FIXED_STEP)
-  {
-    // Their accuracy is set by iterations and substeps, not by a step's truncation error.
-    throw softbody::InvalidInputError("TimeStepMode " + std::to_string(p.TimeStepMode) +
-      " (Error-controlled) runs under Method Mass-Spring; PBD and XPBD take fixed substeps "
-      "(Substeps, SolverIterations). Set TimeStepMode to 0 (Fixed).");
   }
   s.prediction = p.Integrator == vtkSoftBodyFilter::VERLET ? softbody::PbdPrediction::Verlet
                                                            : softbody::PbdPrediction::SymplecticEuler;
@@ -228,6 +214,13 @@ softbody::Scene vtkSoftBodySettings::Scene(const vtkSoftBodyFilter::Parameters& 
     // A floor nothing touches is not read: leaving it at its default keeps the cache when only
     // the Floor properties change.
     scene.floorEnabled = false;
+  }
+  if (Choice("TimeStepMode", p.TimeStepMode, 2, "0 (Fixed), 1 (Error-controlled)") ==
+    vtkSoftBodyFilter::ERROR_CONTROLLED)
+  {
+    // Core refuses what cannot be error-controlled (PBD, the static solve), quoting the value.
+    scene.stepControl = softbody::StepControl::ErrorControlled;
+    scene.errorTolerance = p.ErrorTolerance;
   }
   return scene;
 }

@@ -82,7 +82,7 @@ Run run(const BenchScene& scene, const SceneSettings& settings, const std::vecto
     for (int f = 1; f <= count; ++f)
     {
       sim.advance(scene.frame * f);
-      r.rejected += sim.stepControlReport().rejectedSteps;
+      r.rejected += sim.stepControlReport()->rejectedSteps;
       if (frames)
       {
         frames->push_back(sim.positions());

@@ -7,7 +7,8 @@ far below the controller's: the error of each frame is within the tolerance, the
 tolerance takes more steps and lands closer, and the field data reports what the controller
 did (AcceptedSteps, RejectedSteps, EstimatedError, SmallestStep, LargestStep); the first frame's
 whole-interval step is rejected and said to be. An explicit integrator (Verlet) under error
-control never steps above its stable step."""
+control never steps above its stable step. XPBD under error control lands within the
+tolerance of an XPBD run at a fixed step far below its steps, and reports the same fields."""
 
 import tempfile
 
@@ -62,4 +63,17 @@ mesh = sbt.output_at(verlet, FRAME)
 stable = sbt.field_value(mesh, "StableTimeStep")
 largest = sbt.field_value(mesh, "LargestStep")
 sbt.check(0.0 < largest <= stable, f"Verlet: largest step {largest} s within the stable step {stable} s")
+
+# XPBD: its steps are first order, so the tolerance is met against XPBD itself at a fine step.
+xpbd_common = dict(Input=bar, PinnedPointsArray="Pinned", Floor=0, EndTime=FRAME, FrameInterval=FRAME,
+                   Method="XPBD", Iterations=20)
+xpbd_reference = sbt.points_of(sbt.output_at(SoftBody(TimeStep=2e-5, **xpbd_common), FRAME))
+tolerance = 1e-3
+mesh = sbt.output_at(SoftBody(TimeStepMode="Error-controlled", ErrorTolerance=tolerance, **xpbd_common), FRAME)
+error = float(np.max(np.linalg.norm(sbt.points_of(mesh) - xpbd_reference, axis=1)))
+accepted = sbt.field_value(mesh, "AcceptedSteps")
+print(f"XPBD at {tolerance} m/s: error {error:.3g} m in {accepted} steps over {FRAME} s")
+sbt.check(accepted is not None and accepted > 1, f"XPBD: AcceptedSteps {accepted} reported")
+sbt.check(sbt.field_value(mesh, "SimulationTime") == FRAME, "XPBD: the steps end on the frame time")
+sbt.check(error < tolerance * FRAME, f"XPBD: error {error:.3g} m within the tolerance's share of the frame")
 print("python.error_control: all checks passed")

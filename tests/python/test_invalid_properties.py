@@ -73,12 +73,13 @@ cases = [
     ({"Method": "PBD", "PBDVolumeStiffness": 1.5}, ["PBDVolumeStiffness", "got 1.5"]),
     ({"Method": "XPBD", "BreakingStrain": -0.1}, ["BreakingStrain", "got -0.1"]),
     ({"Method": "XPBD", "Integrator": "Midpoint"}, ["Integrator", "Euler-Cromer", "Verlet"]),
-    # Error-controlled steps (Mass-Spring).
+    # Error-controlled steps (Mass-Spring and XPBD; PBD's stiffness changes with the step).
     ({"TimeStepMode": "Error-controlled", "ErrorTolerance": 0.0}, ["ErrorTolerance", "got 0"]),
     ({"TimeStepMode": "Error-controlled", "ErrorTolerance": -1e-3}, ["ErrorTolerance", "got -0.001"]),
     ({"TimeStepMode": "Error-controlled", "ErrorTolerance": 1e-20}, ["ErrorTolerance", "1e-20", "double precision"]),
     ({"TimeStepMode": "Error-controlled", "Integrator": "Static"}, ["Error-controlled", "Static"]),
-    ({"Method": "XPBD", "TimeStepMode": "Error-controlled"}, ["TimeStepMode", "Mass-Spring"]),
+    ({"Method": "PBD", "TimeStepMode": "Error-controlled"}, ["TimeStepMode 1", "XPBD"]),
+    ({"Method": "XPBD", "TimeStepMode": "Error-controlled", "ErrorTolerance": 0.0}, ["ErrorTolerance", "got 0"]),
 ]
 for values, words in cases:
     # Copy the values: getattr returns a live property, which would follow the bad value.

@@ -136,7 +136,7 @@ TEST(ErrorControl, HangingBarMeetsTheToleranceWithImplicitAndExplicitIntegrators
     scene.errorTolerance = c.tolerance;
     const auto sim = run(scene);
     const double error = test::maxDistance(sim->positions(), reference);
-    const StepControlReport& report = sim->stepControlReport();
+    const StepControlReport& report = *sim->stepControlReport();
     std::cout << integratorName(c.integrator) << " at " << c.tolerance << " m/s: error " << error
               << " m; last frame " << report.acceptedSteps << " steps of " << report.smallestStep << " to "
               << report.largestStep << " s, estimate " << report.estimatedError << " m\n";

@@ -68,8 +68,13 @@ StepJudge::Verdict StepJudge::judge(double h, double estimate)
   return { true, !(estimate <= allowed), event, event ? h : h * factor };
 }
 
-std::string errorToleranceProblem(double tolerance, double extent)
+std::string errorToleranceProblem(double tolerance, const std::vector<Vec3>& points)
 {
+  double extent = 0.0;
+  for (const Vec3& p : points)
+  {
+    extent = std::max(extent, p.cwiseAbs().maxCoeff());
+  }
   if (!(tolerance > 0.0) || !std::isfinite(tolerance))
   {
     return "ErrorTolerance must be a finite distance > 0 in metres per simulated second, got " +

@@ -59,12 +59,7 @@ void validateErrorTolerance(const SceneSettings& scene, const TetMesh& mesh)
   {
     return;
   }
-  double extent = 0.0;
-  for (const Vec3& p : mesh.points)
-  {
-    extent = std::max(extent, p.cwiseAbs().maxCoeff());
-  }
-  if (const std::string problem = errorToleranceProblem(scene.errorTolerance, extent); !problem.empty())
+  if (const std::string problem = errorToleranceProblem(scene.errorTolerance, mesh.points); !problem.empty())
   {
     throw InvalidInputError(problem);
   }

@@ -332,17 +332,7 @@ void MassSpringSimulation::markPointsInContact(std::vector<char>& mask) const
       }
     });
   }
-  for (const Contact& c : Contacts) // the response after the step (explicit integrators, bodies)
-  {
-    mask[static_cast<std::size_t>(c.point)] = 1;
-    for (std::int32_t other : c.other)
-    {
-      if (c.kind != ContactKind::Obstacle && other >= 0)
-      {
-        mask[static_cast<std::size_t>(other)] = 1;
-      }
-    }
-  }
+  markContactPoints(Contacts, mask); // the response after the step (explicit integrators, bodies)
 }
 
 void MassSpringSimulation::restartCorrectedHistories()

@@ -112,6 +112,15 @@ void validateSettings(const PbdSettings& s)
   check::nonNegative("ResidualTolerance", s.residualTolerance, "", "run every iteration");
   check::inRange("Relaxation", s.relaxation, 0.0, 2.0, true, true);
   validateScene(s);
+  if (s.stepControl == StepControl::ErrorControlled && s.formulation == PbdFormulation::Pbd)
+  {
+    // PBD's stiffness depends on the step and the iteration count, so shorter steps make a
+    // stiffer body: there is no one motion for the steps to converge to.
+    throw InvalidInputError("TimeStepMode 1 (Error-controlled) needs a motion that shorter steps "
+                            "converge to, and PBD's stiffnesses change with the step and the "
+                            "iterations. Set Method to XPBD (compliances in SI units) or "
+                            "Mass-Spring, or TimeStepMode to 0 (Fixed).");
+  }
   check::nonNegative("VelocityDamping", s.damping, "1/s", "undamped");
   check::nonNegative("ParticleRadius", s.particleRadius, "m");
   check::nonNegative("StaticFriction", s.collisions.staticFriction, "", "frictionless");
@@ -158,6 +167,13 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
     if (!p.allFinite())
     {
       throw InvalidInputError("The input has points with NaN or infinite coordinates.");
+    }
+  }
+  if (Settings.stepControl == StepControl::ErrorControlled)
+  {
+    if (const std::string problem = errorToleranceProblem(Settings.errorTolerance, body.points); !problem.empty())
+    {
+      throw InvalidInputError(problem);
     }
   }
 

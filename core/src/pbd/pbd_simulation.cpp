@@ -347,6 +347,10 @@ void PbdSimulation::checkDivergence() const
 
 AdvanceStatus PbdSimulation::advance(double endTime, const ProgressCallback& progress)
 {
+  if (Settings.stepControl == StepControl::ErrorControlled)
+  {
+    return advanceWithErrorControl(endTime, progress);
+  }
   // The convergence of the last step is what a frame reports; no other step computes it
   // unless a tolerance asks for the residual every iteration.
   const bool report = Settings.reportConvergence;

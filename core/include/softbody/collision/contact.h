@@ -61,4 +61,21 @@ struct Contact
 /// obstacle contacts come first.
 using ContactSet = std::vector<Contact>;
 
+/// Sets mask[i] for every body point a contact involves (an obstacle contact's own point only:
+/// its other[] indexes the obstacle).
+inline void markContactPoints(const ContactSet& contacts, std::vector<char>& mask)
+{
+  for (const Contact& c : contacts)
+  {
+    mask[static_cast<std::size_t>(c.point)] = 1;
+    for (std::int32_t other : c.other)
+    {
+      if (c.kind != ContactKind::Obstacle && other >= 0)
+      {
+        mask[static_cast<std::size_t>(other)] = 1;
+      }
+    }
+  }
+}
+
 } // namespace softbody

@@ -104,10 +104,10 @@ private:
   double RejectedStep = 0.0, RejectedEstimate = 0.0; ///< the last rejected try of this step
 };
 
-/// Empty when `tolerance` [m per s] can be met on a body whose coordinates reach `extent` [m]
-/// from the origin; else why not, quoting the value (<= 0, not finite, or below what double
-/// precision resolves at that distance).
-std::string errorToleranceProblem(double tolerance, double extent);
+/// Empty when `tolerance` [m per s] can be met on a body at `points`; else why not, quoting
+/// the value (<= 0, not finite, or below what double precision resolves as far from the origin
+/// as the farthest coordinate).
+std::string errorToleranceProblem(double tolerance, const std::vector<Vec3>& points);
 
 /// The largest |a_i - b_i| over the points not marked in `skip` (empty: none) [m].
 double largestDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b, const std::vector<char>& skip);

@@ -16,6 +16,8 @@
 namespace softbody
 {
 
+struct StepControlReport; // common/error_control.h
+
 /// Called during advance() with the fraction done; return false to abort.
 using ProgressCallback = std::function<bool(double fraction)>;
 
@@ -75,6 +77,10 @@ public:
   /// `endTime`, the end of the coming advance() (obstacle.h). Throws InvalidInputError for bad
   /// surfaces, or when !supportsObstacles().
   virtual void setObstacles(std::vector<ObstacleSurface> obstacles, double endTime);
+
+  /// Error-controlled steps (Scene::stepControl): what the controller did in the last
+  /// advance(); null with fixed steps.
+  virtual const StepControlReport* stepControlReport() const { return nullptr; }
 
   virtual double stepSize() const = 0;            ///< [s]
   virtual double estimatedStableStep() const = 0; ///< [s]; 0 if none is stable or not relevant

@@ -44,23 +44,14 @@ struct ImplicitSettings
 };
 
 /// The mass-spring method's settings on top of the scene every method shares.
-/// How the steps are chosen.
-enum class StepControl
-{
-  Fixed,          ///< timeStep, or the automatic step
-  ErrorControlled ///< from a local error estimate, to errorTolerance (common/error_control.h)
-};
-
 struct SceneSettings : Scene
 {
   Integrator integrator = Integrator::EulerCromer;
   /// [s]; 0 = automatic: explicit integrators take the largest stable step estimate times
   /// stabilitySafety; implicit ones one step per advance() call (the filter: one per frame).
-  /// With error-controlled steps, > 0 is the largest step the controller may take.
+  /// With error-controlled steps (Scene::stepControl), > 0 is the largest step the
+  /// controller may take.
   double timeStep = 0.0;
-  StepControl stepControl = StepControl::Fixed;
-  /// Error-controlled steps: the error the steps may add over a simulated second [m].
-  double errorTolerance = 1.0e-4;
   double stabilitySafety = 0.9; ///< fraction of the estimated stable step used in auto mode
   /// Strain limit: maximum l / l0 of a spring (> 1); 0 disables strain limiting.
   double strainLimit = 0.0;

@@ -87,9 +87,10 @@ public:
   const ContactResponseStats& lastContactResponse() const { return ContactStats; }
   const CollisionDetector* collisionDetector() const { return Detector.get(); }
 
-  /// Error-controlled steps (scene.stepControl): what the controller did in the last
-  /// advance(); all zero with fixed steps.
-  const StepControlReport& stepControlReport() const { return StepReport; }
+  const StepControlReport* stepControlReport() const override
+  {
+    return Scene.stepControl == StepControl::ErrorControlled ? &StepReport : nullptr;
+  }
 
   /// Convergence of the implicit integrators' solves; null for the explicit ones.
   const ImplicitConvergence* implicitConvergence() const;

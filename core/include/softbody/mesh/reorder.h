@@ -145,6 +145,7 @@ public:
     return Warnings.empty() ? Inner->warnings() : Warnings;
   }
   const StepPlan& stepPlan() const override { return Inner->stepPlan(); }
+  const StepControlReport* stepControlReport() const override { return Inner->stepControlReport(); }
   /// Obstacles are in world coordinates, so they pass through unchanged (the stepper's
   /// contacts are in its own numbering and never leave it).
   bool supportsObstacles() const override { return Inner->supportsObstacles(); }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "softbody/collision/collision_detector.h"
+#include "softbody/common/error_control.h"
 #include "softbody/common/simulation.h"
 #include "softbody/material/tet_elasticity.h"
 #include "softbody/mesh/topology.h"
@@ -58,6 +59,12 @@ public:
   /// With Collisions Off nothing is collided with, so the obstacles are kept out of the step.
   void setObstacles(std::vector<ObstacleSurface> obstacles, double endTime) override;
   bool setConditionValues(const std::vector<Condition>& conditions) override;
+  /// XPBD's error-controlled steps (Scene::stepControl): each step of the controller runs the
+  /// substeps and iterations of a fixed one.
+  const StepControlReport* stepControlReport() const override
+  {
+    return Settings.stepControl == StepControl::ErrorControlled ? &StepReport : nullptr;
+  }
 
   /// The contacts of the last substep (stepper numbering) and the detector that found them
   /// (null when the collision mode is Off).
@@ -138,6 +145,9 @@ private:
   void setUpTetElasticity(
     const Topology& topology, const std::vector<Vec3>& rest, const MaterialSettings& material);
   void checkDivergence() const;
+  AdvanceStatus advanceWithErrorControl(double endTime, const ProgressCallback& progress);
+  /// Marks the points of the last substep's contacts and the points they touch.
+  void markPointsInContact(std::vector<char>& mask) const;
   /// Reactions (pbd_reactions.cpp): whether every planned constraint type has a compliance, so
   /// that its force C / alpha along its gradient is defined, and those forces at x.
   bool constraintsHaveForces() const;
@@ -172,6 +182,7 @@ private:
   bool ObstacleStartChecked = false; ///< noteObstacleStart ran on the obstacles of t = 0
   bool RecordEveryStep = false;
   PbdConvergence Convergence;
+  StepControlReport StepReport;
   mutable unsigned long long ResidualEvaluations = 0;
 
   std::unique_ptr<CollisionDetector> Detector; ///< null when the collision mode is Off

@@ -10,6 +10,13 @@
 namespace softbody
 {
 
+/// How the steps are chosen.
+enum class StepControl
+{
+  Fixed,          ///< the method's TimeStep, or its automatic step
+  ErrorControlled ///< from a local error estimate, to errorTolerance (common/error_control.h)
+};
+
 struct Scene
 {
   Vec3 gravity{ 0.0, 0.0, -9.81 }; ///< [m/s^2]
@@ -18,6 +25,11 @@ struct Scene
   FloorPlane floor;
   /// Floor, obstacles, bodies, self: what is detected, the margin, and how contacts respond.
   CollisionSettings collisions;
+  /// The same for every method that integrates in time (Mass-Spring's dynamic integrators and
+  /// XPBD); a method's own TimeStep > 0 is then the largest step.
+  StepControl stepControl = StepControl::Fixed;
+  /// Error-controlled steps: the error the steps may add over a simulated second [m].
+  double errorTolerance = 1.0e-4;
   bool operator==(const Scene&) const = default;
 
   /// Collisions Off means nothing is collided with, the floor included.
