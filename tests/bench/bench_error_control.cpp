@@ -82,7 +82,10 @@ Run run(const BenchScene& scene, const SceneSettings& settings, const std::vecto
     for (int f = 1; f <= count; ++f)
     {
       sim.advance(scene.frame * f);
-      r.rejected += sim.stepControlReport()->rejectedSteps;
+      if (const StepControlReport* controller = sim.stepControlReport()) // null with fixed steps
+      {
+        r.rejected += controller->rejectedSteps;
+      }
       if (frames)
       {
         frames->push_back(sim.positions());
