@@ -11,7 +11,11 @@
 //     triad bandwidth measured here (memory_bandwidth.h), as a time per tet.
 // Then Implicit Euler with Stable Neo-Hookean dropping the body onto the floor at 1/60 s steps:
 // wall time per simulated second, Newton iterations per step (full run: the ~180k-tet TetGen
-// ellipsoid; smoke: a small box). Results also go to CSV.
+// ellipsoid; smoke: a small box). And the rotation-variant SVD every Corotated and Stable
+// Neo-Hookean stress, Hessian and XPBD projection starts from: the closed form (with its
+// JacobiSVD fallback) against JacobiSVD alone, on each mesh's deformation gradients at rest and
+// in a rotated, stretched and jittered state (Jacobi's sweeps grow with how far F's singular
+// directions are from the axes, so the rest state is its best case). Results also go to CSV.
 //
 // Usage: bench_tet_elasticity [--smoke] [--data <shared data dir>] [--csv <file>] [--mesh <spec>]
 #include "bench_meshes.h"
@@ -21,7 +25,9 @@
 #include "softbody/massspring/mass_spring_forces.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/massspring/model_potential_factory.h"
+#include "softbody/material/isotropic_elasticity.h"
 #include "softbody/material/mass.h"
+#include "softbody/material/tet_elasticity.h"
 #include "softbody/material/tet_elastic_forces.h"
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/mesh/topology.h"
@@ -29,6 +35,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -102,6 +109,73 @@ double xpbdIterationSeconds(const TetMesh& mesh, MaterialModel model, int repeat
   return best;
 }
 
+/// The mesh rotated 0.7 rad about an oblique axis, stretched by 1.2 / 0.9 / 1.0 along x / y / z
+/// and each point moved by a deterministic jitter of up to 1 % of the body's size: gradients
+/// whose singular directions are off the axes and differ from tet to tet, as in a real motion.
+std::vector<Vec3> deformedPoints(const std::vector<Vec3>& rest)
+{
+  Vec3 lo = rest.front(), hi = rest.front();
+  for (const Vec3& p : rest)
+  {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double size = (hi - lo).maxCoeff();
+  const Mat3 map = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix() *
+    Vec3(1.2, 0.9, 1.0).asDiagonal();
+  std::vector<Vec3> out(rest.size());
+  for (std::size_t i = 0; i < rest.size(); ++i)
+  {
+    const double k = static_cast<double>(i);
+    const Vec3 jitter(std::sin(12.9898 * k), std::sin(78.233 * k), std::sin(37.719 * k));
+    out[i] = map * rest[i] + 0.01 * size * jitter;
+  }
+  return out;
+}
+
+struct SvdRow
+{
+  std::string mesh, state;
+  double closedNs = 0.0, jacobiNs = 0.0, fallbackShare = 0.0;
+};
+
+/// Times the rotation-variant SVD of every tet's F at `x`, closed form against JacobiSVD.
+SvdRow timeSvds(const std::string& mesh, const std::string& state, const Topology& topology,
+  const TetElasticConstants& constants, const std::vector<Vec3>& x, int repeat)
+{
+  std::vector<Mat3> gradients(topology.tets.size());
+  for (std::size_t t = 0; t < gradients.size(); ++t)
+  {
+    gradients[t] = deformationGradient(topology, constants, t, x);
+  }
+  double sink = 0.0; // keeps the compiler from dropping the SVDs
+  const double closed = bestOf(repeat, [&] {
+    for (const Mat3& f : gradients)
+    {
+      sink += rotationVariantSvd(f).s(2);
+    }
+  });
+  const double jacobi = bestOf(repeat, [&] {
+    for (const Mat3& f : gradients)
+    {
+      sink += rotationVariantSvdJacobi(f).s(2);
+    }
+  });
+  std::size_t fallbacks = 0;
+  for (const Mat3& f : gradients)
+  {
+    RotationVariantSvd svd;
+    fallbacks += rotationVariantSvdClosedForm(f, svd) ? 0 : 1;
+  }
+  if (!std::isfinite(sink))
+  {
+    std::printf("(non-finite singular values on %s)\n", mesh.c_str());
+  }
+  const double perTet = 1e9 / static_cast<double>(gradients.size());
+  return { mesh, state, closed * perTet, jacobi * perTet,
+    static_cast<double>(fallbacks) / static_cast<double>(gradients.size()) };
+}
+
 MaterialSettings materialOf(MaterialModel model)
 {
   MaterialSettings material;
@@ -118,6 +192,7 @@ int main(int argc, char** argv)
   const double bandwidth = bench::measureTriadBandwidth(std::size_t(1) << 24, options.smoke ? 2 : 5);
   std::printf("triad bandwidth %.2f GB/s\n", bandwidth * 1e-9);
   std::vector<Row> rows;
+  std::vector<SvdRow> svdRows;
   std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
   std::printf("%-22s %8s  %-18s %10s %8s %12s %8s %10s %8s\n", "mesh", "tets", "model", "force ns/t",
     "x net", "Newton ns/t", "x net", "XPBD ns/t", "x net");
@@ -184,9 +259,21 @@ int main(int argc, char** argv)
         row.newtonNs / networkNewton, row.xpbdNs, row.xpbdNs / networkXpbd);
       rows.push_back(row);
     }
+    const TetElasticConstants svdConstants =
+      computeTetElasticConstants(topology, mesh.points, materialOf(MaterialModel::Corotated), warnings);
+    svdRows.push_back(timeSvds(named.name, "rest", topology, svdConstants, x, repeat));
+    svdRows.push_back(timeSvds(named.name, "deformed", topology, svdConstants, deformedPoints(x), repeat));
     const double bytes = kBytesPerTet;
     std::printf("%-22s %8zu  %-18s %10.1f   (bandwidth bound of the continuum force pass)\n",
       named.name.c_str(), tets, "bound", 1e9 * bytes / bandwidth);
+  }
+
+  std::printf("\n%-22s %-9s %14s %14s %10s %12s\n", "mesh", "state", "closed ns/t", "Jacobi ns/t",
+    "x Jacobi", "fallbacks");
+  for (const SvdRow& row : svdRows)
+  {
+    std::printf("%-22s %-9s %14.1f %14.1f %10.2f %11.2f%%\n", row.mesh.c_str(), row.state.c_str(),
+      row.closedNs, row.jacobiNs, row.jacobiNs / row.closedNs, 100.0 * row.fallbackShare);
   }
 
   // Implicit Euler with Stable Neo-Hookean: a body dropped a centimetre onto the floor.
@@ -231,6 +318,11 @@ int main(int argc, char** argv)
         << row.newtonNs << ',' << row.xpbdNs << '\n';
   }
   csv << "# bandwidth_GBps," << bandwidth * 1e-9 << "\n";
+  for (const SvdRow& row : svdRows)
+  {
+    csv << "# svd," << row.mesh << ',' << row.state << ',' << row.closedNs << ',' << row.jacobiNs << ','
+        << row.fallbackShare << '\n';
+  }
   csv << "# implicit_snh," << landing.name << ',' << landing.mesh.tets.size() << ','
       << wall / simulated << ',' << double(c.iterationsTotal) / double(c.steps) << '\n';
 
@@ -261,5 +353,14 @@ int main(int argc, char** argv)
     1e9 * kBytesPerTet / bandwidth, bandwidth * 1e-9, landing.name.c_str(),
     landing.mesh.tets.size(), wall / simulated, double(c.iterationsTotal) / double(c.steps));
   table << line;
+  table << "\nThe rotation-variant SVD per tet, the closed form (with its JacobiSVD fallback) against "
+           "JacobiSVD alone:\n\n| mesh | state | closed form [ns/tet] | JacobiSVD [ns/tet] | x closed form "
+           "| fallbacks |\n|---|---|---|---|---|---|\n";
+  for (const SvdRow& row : svdRows)
+  {
+    std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.1f | %.2f | %.2f %% |\n", row.mesh.c_str(),
+      row.state.c_str(), row.closedNs, row.jacobiNs, row.jacobiNs / row.closedNs, 100.0 * row.fallbackShare);
+    table << line;
+  }
   return 0;
 }

@@ -344,3 +344,58 @@ TEST(TetElasticFamily, ViscosityLeavesARigidRotationUndamped)
   EXPECT_GT(stretchedMax, 0.0);
   EXPECT_LT(spunMax, 1e-9 * stretchedMax);
 }
+
+// The closed-form SVD (the fast path) against JacobiSVD on stretched, rotated, inverted,
+// nearly flat and nearly isotropic deformations: where it is taken, the same singular values,
+// the same nearest rotation U V^T and the same Corotated stress to 1e-10 of their size; where
+// it is set aside, rotationVariantSvd gives JacobiSVD's own answer. Most random deformations
+// take it (else it would be no faster).
+TEST(IsotropicLaws, ClosedFormSvdIsJacobiSvdsWhereItIsTaken)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> angle(-3.0, 3.0);
+  std::vector<Mat3> cases;
+  for (unsigned k = 0; k < 400; ++k)
+  {
+    const Mat3 rotation =
+      (Eigen::AngleAxisd(angle(rng), Vec3::UnitZ()) * Eigen::AngleAxisd(angle(rng), Vec3::UnitX())).toRotationMatrix();
+    const Mat3 base = k % 4 == 0 ? invertedDeformation(k) : randomDeformation(k, k % 4 == 1 ? 1e-7 : 0.5);
+    Mat3 f = rotation * base;
+    if (k % 8 == 3)
+    {
+      f.col(2) *= 1e-9; // nearly flat
+    }
+    cases.push_back(f);
+  }
+  cases.push_back(Mat3::Identity());
+  cases.push_back(Mat3::Zero());
+  cases.push_back(Vec3(2.0, 2.0, -1e-3).asDiagonal());
+  int taken = 0;
+  for (const Mat3& f : cases)
+  {
+    const RotationVariantSvd jacobi = rotationVariantSvdJacobi(f);
+    RotationVariantSvd closed;
+    const double size = std::max(f.norm(), 1e-300);
+    if (!rotationVariantSvdClosedForm(f, closed))
+    {
+      const RotationVariantSvd chosen = rotationVariantSvd(f);
+      EXPECT_EQ(chosen.s, jacobi.s);
+      EXPECT_EQ(chosen.u, jacobi.u);
+      continue;
+    }
+    ++taken;
+    EXPECT_LT((closed.s - jacobi.s).cwiseAbs().maxCoeff(), 1e-10 * size) << f;
+    EXPECT_NEAR(closed.u.determinant(), 1.0, 1e-12);
+    EXPECT_NEAR(closed.v.determinant(), 1.0, 1e-12);
+    if (jacobi.s(1) - std::abs(jacobi.s(2)) > 1e-6 * size) // the rotation is unique
+    {
+      EXPECT_LT((closed.u * closed.v.transpose() - jacobi.u * jacobi.v.transpose()).norm(), 1e-8) << f;
+    }
+    const LameParameters p = kLinear;
+    const Mat3 stress = firstPiolaStress<CorotatedLaw>(closed, p);
+    const Mat3 reference = firstPiolaStress<CorotatedLaw>(jacobi, p);
+    EXPECT_LT((stress - reference).norm(), 1e-8 * (reference.norm() + p.mu)) << f;
+  }
+  std::printf("closed form taken for %d of %zu deformations\n", taken, cases.size());
+  EXPECT_GT(taken, static_cast<int>(cases.size()) * 3 / 4);
+}

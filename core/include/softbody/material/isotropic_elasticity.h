@@ -62,7 +62,9 @@ struct RotationVariantSvd
   Vec3 s;
 };
 
-inline RotationVariantSvd rotationVariantSvd(const Mat3& f)
+/// The same from Eigen's JacobiSVD: accurate for every F, and iterative (its sweeps grow with
+/// how far F's singular directions are from the axes, so rotated real meshes cost the most).
+inline RotationVariantSvd rotationVariantSvdJacobi(const Mat3& f)
 {
   const Eigen::JacobiSVD<Mat3> svd(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
   RotationVariantSvd out{ svd.matrixU(), svd.matrixV(), svd.singularValues() };
@@ -77,6 +79,59 @@ inline RotationVariantSvd rotationVariantSvd(const Mat3& f)
     out.s(2) *= -1.0;
   }
   return out;
+}
+
+/// The largest |U diag(s) V^T - F| and |V^T V - I| entries, relative to |F|, a closed-form
+/// SVD may leave before it is set aside for JacobiSVD's.
+constexpr double kClosedFormSvdTolerance = 1.0e-14;
+
+/// The rotation-variant SVD in closed form, where it is accurate: V from the eigenvectors of
+/// F^T F (Eigen's direct 3x3 solver, no iteration), U's first two columns from F V / s made
+/// orthonormal, the third their cross product (so U is proper even for an inverted F, whose
+/// s(2) then comes out negative). False where the result does not reproduce F to
+/// kClosedFormSvdTolerance (a nearly flat F, whose second singular value the eigenvalues of
+/// F^T F cannot resolve, or eigenvectors the direct solver loses near repeated eigenvalues).
+inline bool rotationVariantSvdClosedForm(const Mat3& f, RotationVariantSvd& out)
+{
+  Eigen::SelfAdjointEigenSolver<Mat3> eigen;
+  eigen.computeDirect(f.transpose() * f); // eigenvalues ascending
+  const Mat3& w = eigen.eigenvectors();
+  out.v.col(0) = w.col(2);
+  out.v.col(1) = w.col(1);
+  out.v.col(2) = w.col(0);
+  if (out.v.determinant() < 0.0)
+  {
+    out.v.col(2) *= -1.0;
+  }
+  const Vec3 a = f * out.v.col(0), b = f * out.v.col(1);
+  const double s0 = a.norm();
+  if (!(s0 > 0.0) || !std::isfinite(s0))
+  {
+    return false;
+  }
+  const Vec3 u0 = a / s0;
+  const Vec3 b1 = b - u0.dot(b) * u0;
+  const double s1 = b1.norm();
+  if (!(s1 > 1.0e-6 * s0))
+  {
+    return false;
+  }
+  out.u.col(0) = u0;
+  out.u.col(1) = b1 / s1;
+  out.u.col(2) = u0.cross(out.u.col(1));
+  out.s = Vec3(s0, s1, out.u.col(2).dot(f * out.v.col(2)));
+  const double scale = kClosedFormSvdTolerance * f.cwiseAbs().maxCoeff();
+  return (out.u * out.s.asDiagonal() * out.v.transpose() - f).cwiseAbs().maxCoeff() <= scale &&
+    (out.v.transpose() * out.v - Mat3::Identity()).cwiseAbs().maxCoeff() <= kClosedFormSvdTolerance &&
+    out.s(0) >= out.s(1) - scale && out.s(1) >= std::abs(out.s(2)) - scale; // sorted, to rounding
+}
+
+/// The closed form where it is accurate, JacobiSVD where it is not (both give the same
+/// factors up to the signs and bases a repeated singular value leaves free).
+inline RotationVariantSvd rotationVariantSvd(const Mat3& f)
+{
+  RotationVariantSvd out;
+  return rotationVariantSvdClosedForm(f, out) ? out : rotationVariantSvdJacobi(f);
 }
 
 /// Index of the singular value that is not i or j (pairs (0,1), (0,2), (1,2)).
