@@ -11,7 +11,10 @@ A page marks each generated table with a pair of comments:
 `summary.md` is a file of the benchmark output folder; after `#` an optional heading of that
 file, whose first table is taken (without it: the file's first table).
 
-    scripts/update_docs_tables.py <benchmark output folder> <page.md> [<page.md> ...]
+    scripts/update_docs_tables.py [--only <file.md>] <benchmark output folder> <page.md> [<page.md> ...]
+
+--only rewrites just the tables taken from that file (after one benchmark's own run), leaving
+the page's other tables as they are.
 
 Exits 1, changing nothing in that page, when a marked source or its table is missing.
 """
@@ -51,14 +54,14 @@ def table_from(folder, name, heading):
     return table
 
 
-def update(page, folder):
+def update(page, folder, only=None):
     lines = open(page).read().splitlines()
     out, i, count = [], 0, 0
     while i < len(lines):
         match = MARK.match(lines[i])
         out.append(lines[i])
         i += 1
-        if not match:
+        if not match or (only and match['file'].strip() != only):
             continue
         end = next((j for j in range(i, len(lines)) if lines[j].strip() == END), None)
         if end is None:
@@ -72,13 +75,17 @@ def update(page, folder):
 
 
 def main(argv):
+    only = None
+    if len(argv) > 2 and argv[1] == '--only':
+        only = argv[2]
+        argv = argv[:1] + argv[3:]
     if len(argv) < 3:
         print(__doc__)
         return 2
     status = 0
     for page in argv[2:]:
         try:
-            print(f'{page}: {update(page, argv[1])} tables written from {argv[1]}')
+            print(f'{page}: {update(page, argv[1], only)} tables written from {argv[1]}')
         except LookupError as error:
             print(f'{page}: not updated: {error}', file=sys.stderr)
             status = 1

@@ -141,6 +141,7 @@ struct Variant
 const Variant kVariants[] = {
   { Integrator::ImplicitEuler, "block Jacobi CG" },
   { Integrator::ImplicitEuler, "coordinate CG", LinearPreconditioner::Coordinate },
+  { Integrator::ImplicitEuler, "incomplete-Cholesky CG", LinearPreconditioner::IncompleteCoordinate },
   { Integrator::ProjectiveDynamics, "CHOLMOD" },
   { Integrator::ProjectiveDynamics, "Eigen simplicial", LinearPreconditioner::BlockJacobi,
     CholeskyBackend::EigenSimplicial },
@@ -148,6 +149,8 @@ const Variant kVariants[] = {
   { Integrator::ImplicitEuler, "steel, block Jacobi CG", LinearPreconditioner::BlockJacobi,
     CholeskyBackend::CholmodSupernodal, true },
   { Integrator::ImplicitEuler, "steel, coordinate CG", LinearPreconditioner::Coordinate,
+    CholeskyBackend::CholmodSupernodal, true },
+  { Integrator::ImplicitEuler, "steel, incomplete-Cholesky CG", LinearPreconditioner::IncompleteCoordinate,
     CholeskyBackend::CholmodSupernodal, true },
 };
 

@@ -347,13 +347,15 @@ int main(int argc, char** argv)
       row.newtonNs / newtonBase, row.xpbdNs, row.xpbdNs / xpbdBase);
     table << line;
   }
-  std::snprintf(line, sizeof line, "\nBandwidth bound of the continuum force pass: %.1f ns/tet at the "
-    "measured triad bandwidth of %.2f GB/s. Implicit Euler with Stable Neo-Hookean, %s (%zu tets) "
-    "dropped 1 cm onto the floor at 1/60 s: %.2f s per simulated second, %.1f Newton iterations per step.\n",
-    1e9 * kBytesPerTet / bandwidth, bandwidth * 1e-9, landing.name.c_str(),
-    landing.mesh.tets.size(), wall / simulated, double(c.iterationsTotal) / double(c.steps));
+  table << "\n## Bound and landing\n\n| triad bandwidth [GB/s] | force-pass bound [ns/tet] | landing mesh "
+           "| tets | s per simulated second | Newton iterations per step | CG iterations per Newton iteration "
+           "|\n|---|---|---|---|---|---|---|\n";
+  std::snprintf(line, sizeof line, "| %.2f | %.1f | %s | %zu | %.2f | %.1f | %.0f |\n", bandwidth * 1e-9,
+    1e9 * kBytesPerTet / bandwidth, landing.name.c_str(), landing.mesh.tets.size(), wall / simulated,
+    double(c.iterationsTotal) / double(c.steps),
+    double(c.linearIterationsTotal) / std::max(1.0, double(c.iterationsTotal)));
   table << line;
-  table << "\nThe rotation-variant SVD per tet, the closed form (with its JacobiSVD fallback) against "
+  table << "\n## Rotation-variant SVD\n\nPer tet, the closed form (with its JacobiSVD fallback) against "
            "JacobiSVD alone:\n\n| mesh | state | closed form [ns/tet] | JacobiSVD [ns/tet] | x closed form "
            "| fallbacks |\n|---|---|---|---|---|---|\n";
   for (const SvdRow& row : svdRows)

@@ -14,6 +14,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <cstdio>
 
 using namespace softbody;
 
@@ -120,6 +121,40 @@ TEST(CoordinatePreconditioner, SteelCantileverSameSolutionInFewerIterations)
   }
 }
 
+// The incomplete factor of the same matrix: the same solution, fewer CG iterations than block
+// Jacobi (it sees A's couplings, not only each point's own block), more than the complete
+// factor (which sees the whole mesh), and a factor no larger than A's lower triangle.
+TEST(CoordinatePreconditioner, IncompleteFactorSameSolutionBetweenJacobiAndComplete)
+{
+  for (MaterialModel model : { MaterialModel::SpringNetwork, MaterialModel::StableNeoHookean })
+  {
+    const BodyDescription body = cantilever(model, 2e11);
+    const SolveRun jacobi = run(body, Integrator::ImplicitEuler, LinearPreconditioner::BlockJacobi, 1.0 / 60, 6);
+    const SolveRun complete = run(body, Integrator::ImplicitEuler, LinearPreconditioner::Coordinate, 1.0 / 60, 6);
+    const SolveRun incomplete =
+      run(body, Integrator::ImplicitEuler, LinearPreconditioner::IncompleteCoordinate, 1.0 / 60, 6);
+    const std::string name = materialModelName(model);
+    EXPECT_EQ(incomplete.warnings, 0u) << name;
+    EXPECT_EQ(incomplete.factorizations, 1) << name;
+    EXPECT_LT(test::maxDistance(jacobi.positions, incomplete.positions), 1e-8) << name;
+    EXPECT_LT(incomplete.cgPerNewton, jacobi.cgPerNewton) << name;
+    EXPECT_GE(incomplete.cgPerNewton, complete.cgPerNewton) << name;
+    std::printf("%s: CG iterations per Newton iteration, block Jacobi %.1f, incomplete %.1f, complete %.1f\n",
+      name.c_str(), jacobi.cgPerNewton, incomplete.cgPerNewton, complete.cgPerNewton);
+  }
+  SceneSettings scene;
+  scene.integrator = Integrator::ImplicitEuler;
+  scene.implicit.preconditioner = LinearPreconditioner::IncompleteCoordinate;
+  MassSpringSimulation sim(cantilever(MaterialModel::Corotated, 1e6), scene);
+  sim.advance(0.02);
+  ASSERT_NE(sim.coordinatePreconditioner(), nullptr);
+  EXPECT_TRUE(sim.coordinatePreconditioner()->incomplete());
+  const std::size_t points = sim.positions().size();
+  // A's lower triangle over the free points: each row couples to at most its ~14 neighbours.
+  EXPECT_GT(sim.coordinatePreconditioner()->factorBytes(), 0u);
+  EXPECT_LT(sim.coordinatePreconditioner()->factorBytes(), points * 16 * (sizeof(double) + sizeof(int)));
+}
+
 // The static solve and BDF2 go through the same Newton solve: same answers with either
 // preconditioner.
 TEST(CoordinatePreconditioner, StaticSolveAndBdf2ReachTheSameSolution)
@@ -158,23 +193,27 @@ TEST(CoordinatePreconditioner, RefactorsOnlyWhenTheStepLeavesSqrt2OfTheFactoredO
 
 TEST(CoordinatePreconditioner, ResultsDoNotDependOnTheThreadCount)
 {
-  std::vector<Vec3> positions[2];
-  for (std::size_t threads : { 1u, 2u })
+  for (LinearPreconditioner preconditioner :
+    { LinearPreconditioner::Coordinate, LinearPreconditioner::IncompleteCoordinate })
   {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    BodyDescription body;
-    body.mesh = makeTetBox(6, 5, 4, 0.03, Vec3(0, 0, 0.05));
-    body.material.model = MaterialModel::StableNeoHookean;
-    SceneSettings scene;
-    scene.integrator = Integrator::ImplicitEuler;
-    scene.floorEnabled = true;
-    scene.implicit.preconditioner = LinearPreconditioner::Coordinate;
-    MassSpringSimulation sim(body, scene);
-    for (int frame = 1; frame <= 12; ++frame)
+    std::vector<Vec3> positions[2];
+    for (std::size_t threads : { 1u, 2u })
     {
-      sim.advance(frame / 30.0);
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      BodyDescription body;
+      body.mesh = makeTetBox(6, 5, 4, 0.03, Vec3(0, 0, 0.05));
+      body.material.model = MaterialModel::StableNeoHookean;
+      SceneSettings scene;
+      scene.integrator = Integrator::ImplicitEuler;
+      scene.floorEnabled = true;
+      scene.implicit.preconditioner = preconditioner;
+      MassSpringSimulation sim(body, scene);
+      for (int frame = 1; frame <= 12; ++frame)
+      {
+        sim.advance(frame / 30.0);
+      }
+      positions[threads - 1] = sim.positions();
     }
-    positions[threads - 1] = sim.positions();
+    EXPECT_EQ(positions[0], positions[1]);
   }
-  EXPECT_EQ(positions[0], positions[1]);
 }

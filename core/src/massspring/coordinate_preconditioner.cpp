@@ -2,18 +2,46 @@
 
 #include "softbody/common/parallel.h"
 
+#include <Eigen/IterativeLinearSolvers>
+
 #include <chrono>
 #include <cmath>
 
 namespace softbody
 {
 
+struct CoordinatePreconditioner::IncompleteFactor
+{
+  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> factor;
+  bool factored = false;
+};
+
 CoordinatePreconditioner::CoordinatePreconditioner(const Topology& topology,
   const BodyElements& elements, const PointMasses& masses,
-  const std::vector<Vec3>& restPositions, CholeskyBackend backend)
+  const std::vector<Vec3>& restPositions, CholeskyBackend backend, bool incomplete)
   : Matrix(topology, elements, masses, restPositions)
   , Cholesky(backend)
+  , Incomplete(incomplete ? std::make_unique<IncompleteFactor>() : nullptr)
 {
+}
+
+CoordinatePreconditioner::~CoordinatePreconditioner() = default;
+
+std::size_t CoordinatePreconditioner::factorBytes() const
+{
+  if (!Incomplete)
+  {
+    return Cholesky.factorBytes();
+  }
+  if (!Incomplete->factored)
+  {
+    return 0;
+  }
+  // L's values and row indices, its column starts, the scaling and the two permutations.
+  const auto& l = Incomplete->factor.matrixL();
+  const std::size_t n = static_cast<std::size_t>(l.cols());
+  return static_cast<std::size_t>(l.nonZeros()) * (sizeof(double) + sizeof(int)) +
+    (n + 1) * sizeof(int) + n * (sizeof(double) + 2 * sizeof(int));
 }
 
 std::string CoordinatePreconditioner::prepare(double h, bool inertia, const std::vector<char>& active)
@@ -26,7 +54,8 @@ std::string CoordinatePreconditioner::prepare(double h, bool inertia, const std:
   const bool stepFits = inertia == FactoredInertia &&
     ((std::isinf(h) && std::isinf(FactoredStep)) ||
       (h <= kStepRatio * FactoredStep && FactoredStep <= kStepRatio * h));
-  if (Cholesky.factored() && stepFits && Held == FactoredHeld)
+  const bool factored = Incomplete ? Incomplete->factored : Cholesky.factored();
+  if (factored && stepFits && Held == FactoredHeld)
   {
     return {};
   }
@@ -44,7 +73,22 @@ std::string CoordinatePreconditioner::prepare(double h, bool inertia, const std:
       }
     }
   }
-  std::string failure = Cholesky.factor(a);
+  std::string failure;
+  if (Incomplete)
+  {
+    // Eigen shifts the scaled diagonal until the incomplete factor exists, so it fails only on
+    // a matrix it cannot scale (a zero or negative diagonal).
+    Incomplete->factor.compute(a);
+    Incomplete->factored = Incomplete->factor.info() == Eigen::Success;
+    if (!Incomplete->factored)
+    {
+      failure = "the incomplete Cholesky factorization reported a numerical issue";
+    }
+  }
+  else
+  {
+    failure = Cholesky.factor(a);
+  }
   FactorSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ++Factorizations;
   if (!failure.empty())
@@ -65,7 +109,17 @@ void CoordinatePreconditioner::apply(const std::vector<Vec3>& r, std::vector<Vec
   parallelFor(rows.size(), 4096, [&](std::size_t k) {
     Columns.row(static_cast<Eigen::Index>(k)) = r[static_cast<std::size_t>(rows[k])].transpose();
   });
-  Cholesky.solve(Columns);
+  if (Incomplete)
+  {
+    for (Eigen::Index c = 0; c < 3; ++c)
+    {
+      Columns.col(c) = Incomplete->factor.solve(Columns.col(c)).eval();
+    }
+  }
+  else
+  {
+    Cholesky.solve(Columns);
+  }
   z = r; // fixed points (no row): the filter zeroes them
   parallelFor(rows.size(), 4096, [&](std::size_t k) {
     z[static_cast<std::size_t>(rows[k])] = Columns.row(static_cast<Eigen::Index>(k)).transpose();

@@ -25,10 +25,10 @@ ImplicitEulerStepper::ImplicitEulerStepper(const Topology& topology,
   , Hessian(topology)
   , Equilibrium(equilibrium)
 {
-  if (scene.implicit.preconditioner == LinearPreconditioner::Coordinate)
+  if (scene.implicit.preconditioner != LinearPreconditioner::BlockJacobi)
   {
-    Coordinate = std::make_unique<CoordinatePreconditioner>(
-      topology, elements, masses, restPositions, scene.implicit.cholesky);
+    Coordinate = std::make_unique<CoordinatePreconditioner>(topology, elements, masses, restPositions,
+      scene.implicit.cholesky, scene.implicit.preconditioner == LinearPreconditioner::IncompleteCoordinate);
   }
   if (equilibrium)
   {

@@ -13,12 +13,19 @@
 // held by contacts (sliding on a plane, or stuck by static friction) keep their rows: the
 // filter removes their motion after the solve, and a contact set that changes from one Newton
 // iteration to the next would otherwise refactor at every one.
+//
+// The factor is complete (SparseCholesky: CHOLMOD or Eigen) or incomplete (Eigen's incomplete
+// Cholesky with no fill, after its own diagonal scaling and with the diagonal shift it adds
+// until the factor exists). The complete factor's fill grows faster than the mesh (about
+// n^(4/3) nonzeros for a 3D mesh of n points under nested dissection); the incomplete one
+// keeps A's pattern, at the price of more CG iterations.
 #pragma once
 
 #include "softbody/common/sparse_cholesky.h"
 #include "softbody/massspring/block_pcg.h"
 #include "softbody/massspring/coordinate_matrix.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,7 +36,9 @@ class CoordinatePreconditioner final : public PcgPreconditioner
 {
 public:
   CoordinatePreconditioner(const Topology& topology, const BodyElements& elements,
-    const PointMasses& masses, const std::vector<Vec3>& restPositions, CholeskyBackend backend);
+    const PointMasses& masses, const std::vector<Vec3>& restPositions, CholeskyBackend backend,
+    bool incomplete = false);
+  ~CoordinatePreconditioner() override;
 
   /// Makes the factor ready for a system of step h (with `inertia`: M / h^2 in it; the static
   /// solve has none and h = infinity) with the points `active` is 0 at held by conditions
@@ -42,7 +51,8 @@ public:
 
   int factorizations() const { return Factorizations; }
   double factorSeconds() const { return FactorSeconds; } ///< all factorizations together
-  std::size_t factorBytes() const { return Cholesky.factorBytes(); }
+  std::size_t factorBytes() const;
+  bool incomplete() const { return static_cast<bool>(Incomplete); }
 
   /// The largest ratio between the step and the factored one at which the factor is reused.
   static constexpr double kStepRatio = 1.4142135623730951;
@@ -50,6 +60,8 @@ public:
 private:
   CoordinateMatrix Matrix;
   SparseCholesky Cholesky;
+  struct IncompleteFactor;
+  std::unique_ptr<IncompleteFactor> Incomplete; ///< null: the complete factor
   double FactoredStep = 0.0;
   bool FactoredInertia = true;
   std::vector<char> FactoredHeld; ///< per row of A: held by a condition when factored

@@ -19,7 +19,10 @@ namespace softbody
 enum class LinearPreconditioner
 {
   BlockJacobi, ///< each point's own 3x3 block: no set-up, many iterations on large meshes
-  Coordinate   ///< a sparse Cholesky factor of the isotropic step matrix, reused across steps
+  Coordinate,  ///< a sparse Cholesky factor of the isotropic step matrix, reused across steps
+  /// The same matrix's incomplete Cholesky factor (Eigen, no fill beyond A's pattern): a
+  /// factor the size of A and quick to make, that sees less of the long-range coupling
+  IncompleteCoordinate
 };
 
 /// How the implicit integrators solve each step (see implicit_euler.h, projective_dynamics.h).
