@@ -14,6 +14,7 @@ struct CoordinatePreconditioner::IncompleteFactor
 {
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> factor;
   bool factored = false;
+  Eigen::VectorXd column; ///< one coordinate's solution, reused across applications
 };
 
 CoordinatePreconditioner::CoordinatePreconditioner(const Topology& topology,
@@ -111,9 +112,12 @@ void CoordinatePreconditioner::apply(const std::vector<Vec3>& r, std::vector<Vec
   });
   if (Incomplete)
   {
+    // Eigen's incomplete factor solves one right-hand side at a time; each goes through a
+    // kept column so that no CG iteration allocates.
     for (Eigen::Index c = 0; c < 3; ++c)
     {
-      Columns.col(c) = Incomplete->factor.solve(Columns.col(c)).eval();
+      Incomplete->column = Incomplete->factor.solve(Columns.col(c));
+      Columns.col(c) = Incomplete->column;
     }
   }
   else
