@@ -11,6 +11,7 @@
 #include "softbody/mesh/mesh_generators.h"
 #include "softbody/pbd/pbd_simulation.h"
 #include "collision_test_scenes.h"
+#include "torus_pair.h"
 
 #include <tbb/global_control.h>
 
@@ -19,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 using namespace softbody;
 
@@ -333,4 +335,77 @@ TEST(EdgeContacts, OneAndTwoThreadsGiveBitIdenticalStates)
   const std::vector<Vec3> two = run(2);
   ASSERT_EQ(one.size(), two.size());
   EXPECT_TRUE(std::equal(one.begin(), one.end(), two.begin(), [](const Vec3& a, const Vec3& b) { return a == b; }));
+}
+
+TEST(EdgeContacts, TheTreesFindWhatBruteForceFindsOnTwoTetGenToriMovingIntoEachOther)
+{
+  // Surface edges query the other bodies' trees in groups, with their tree node's box
+  // (TriangleBvh::groups); each edge then box-tests what its group found. That must leave each
+  // edge the candidates it would meet alone, in the same order: the contacts equal brute
+  // force's bit for bit, with and without self collisions, at 1 and 2 threads.
+  const test::TorusPair pair = test::torusPair(0.0, 2e-4); // about 500 points each
+  const auto lowerPoints = static_cast<std::int32_t>(pair.lowerPoints);
+  CollisionGeometry g;
+  for (int body = 0; body < 2; ++body)
+  {
+    TetMesh torus;
+    const std::int32_t first = body == 0 ? 0 : lowerPoints;
+    const auto last = body == 0 ? lowerPoints : static_cast<std::int32_t>(pair.body.points.size());
+    torus.points.assign(pair.body.points.begin() + first, pair.body.points.begin() + last);
+    for (Tet t : pair.body.tets)
+    {
+      if (t[0] >= first && t[0] < last)
+      {
+        for (std::int32_t& v : t)
+        {
+          v -= first;
+        }
+        torus.tets.push_back(t);
+      }
+    }
+    test::addTetBody(g, torus, body);
+  }
+  // The upper torus moves 10 cm down into the lower one over the substep, every point jittered
+  // by up to 1 mm (surface edges cross at all angles).
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.001, 0.001);
+  std::vector<Vec3> start = g.rest, predicted = g.rest;
+  for (std::size_t i = 0; i < predicted.size(); ++i)
+  {
+    start[i] += Vec3(jitter(rng), jitter(rng), jitter(rng));
+    predicted[i] = start[i] + Vec3(jitter(rng), jitter(rng), jitter(rng) - (static_cast<std::int32_t>(i) >= lowerPoints ? 0.1 : 0.0));
+  }
+  auto detect = [&](BroadPhase kind, CollisionMode mode, std::size_t threads, std::size_t& edgeContacts) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    CollisionSettings settings;
+    settings.mode = mode;
+    settings.broadPhase = kind;
+    settings.margin = 0.002;
+    CollisionDetector detector(g, settings, false, FloorPlane{});
+    ContactSet contacts;
+    detector.detect(g.rest, start, 0.0, 0.01, contacts); // builds the trees; the second detection refits them
+    detector.detect(start, predicted, 0.01, 0.01, contacts);
+    edgeContacts = detector.stats().edgeContacts;
+    return contacts;
+  };
+  for (CollisionMode mode : { CollisionMode::ObstaclesAndBodies, CollisionMode::ObstaclesBodiesAndSelf })
+  {
+    std::size_t bruteEdges = 0;
+    const ContactSet reference = detect(BroadPhase::BruteForce, mode, 2, bruteEdges);
+    std::printf("%s: %zu contacts, %zu of them edge against edge\n",
+      mode == CollisionMode::ObstaclesAndBodies ? "bodies" : "bodies and self", reference.size(), bruteEdges);
+    EXPECT_GT(bruteEdges, 200u) << "mode " << static_cast<int>(mode);
+    for (BroadPhase kind : { BroadPhase::UniformGrid, BroadPhase::Octree })
+    {
+      for (std::size_t threads : { 1u, 2u })
+      {
+        std::size_t edges = 0;
+        const ContactSet contacts = detect(kind, mode, threads, edges);
+        EXPECT_EQ(edges, bruteEdges);
+        EXPECT_TRUE(test::sameContacts(contacts, reference))
+          << "broad phase " << static_cast<int>(kind) << ", mode " << static_cast<int>(mode) << ", " << threads
+          << " threads: " << contacts.size() << " contacts against " << reference.size();
+      }
+    }
+  }
 }

@@ -52,6 +52,30 @@ void TriangleBvh::buildNode(std::uint32_t index, std::uint32_t begin, std::uint3
   buildNode(left + 1, middle, end, boxes);
 }
 
+std::vector<std::uint32_t> TriangleBvh::groups(std::uint32_t maxItems) const
+{
+  std::vector<std::uint32_t> found;
+  if (Nodes.empty())
+  {
+    return found;
+  }
+  std::vector<std::uint32_t> stack{ 0 };
+  while (!stack.empty())
+  {
+    const std::uint32_t index = stack.back();
+    stack.pop_back();
+    const Node& node = Nodes[index];
+    if (node.left == 0 || node.end - node.begin <= maxItems)
+    {
+      found.push_back(index);
+      continue;
+    }
+    stack.push_back(node.left + 1);
+    stack.push_back(node.left);
+  }
+  return found;
+}
+
 void TriangleBvh::refit(const std::vector<Aabb>& boxes)
 {
   ItemBoxes.resize(Items.size());

@@ -166,6 +166,12 @@ private:
   std::vector<std::vector<std::int32_t>> BodyEdges;
   std::vector<TriangleBvh> BodyEdgeBvh;
   bool EdgeBvhsBuilt = false;
+  /// The edges' query groups (slot, node of that slot's edge tree), fixed with the trees'
+  /// shape: each group queries the other trees once with its node's box (detectEdges).
+  std::vector<std::array<std::uint32_t, 2>> EdgeGroups;
+  std::vector<std::int32_t> BodyLastEdge;  ///< per slot: its largest edge index
+  void detectEdgeGroup(std::size_t group, const std::vector<Vec3>& start, const std::vector<Vec3>& predicted,
+    Candidates& candidates, std::vector<std::int32_t>& near, ContactSet& found) const;
   std::vector<ContactSet> EdgeBlockContacts;
   std::vector<std::size_t> EdgeBlockExamined;
   ContactSet EdgeContacts;

@@ -9,6 +9,7 @@
 #include "softbody/collision/aabb.h"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace softbody
@@ -33,6 +34,18 @@ public:
   void forEachOverlapping(const Aabb& box, const Visit& visit) const;
 
   std::size_t itemCount() const { return Items.size(); }
+
+  /// The highest nodes that hold at most `maxItems` items each, in depth-first order: groups
+  /// of nearby items that together partition the items. The tree's shape is fixed at build, so
+  /// the groups are too; a group can query another tree once with its node's box where each of
+  /// its items would otherwise query it alone.
+  std::vector<std::uint32_t> groups(std::uint32_t maxItems) const;
+  /// A node's box (as of the last refit) and its items (tree order).
+  const Aabb& nodeBox(std::uint32_t node) const { return Nodes[node].box; }
+  std::span<const std::int32_t> nodeItems(std::uint32_t node) const
+  {
+    return { Items.data() + Nodes[node].begin, Nodes[node].end - Nodes[node].begin };
+  }
 
 private:
   struct Node
