@@ -247,7 +247,7 @@ PbdBody pbdBodyOf(const BodyDescription& body)
   return p;
 }
 
-PbdSettings pbdSettingsOf(const BodyDescription& body, const SceneSettings& scene, bool xpbd)
+PbdSettings pbdSettingsOf(const SceneSettings& scene, bool xpbd)
 {
   PbdSettings s;
   s.formulation = xpbd ? PbdFormulation::Xpbd : PbdFormulation::Pbd;
@@ -274,7 +274,7 @@ SimPtr makePbd(const LabScene& s, bool xpbd, PbdSolver solver, double relaxation
   int substeps)
 {
   PbdSettings settings = s.pbdSettings;
-  const PbdSettings defaults = pbdSettingsOf(s.body, s.scene, xpbd);
+  const PbdSettings defaults = pbdSettingsOf(s.scene, xpbd);
   settings.formulation = defaults.formulation;
   settings.elasticFromMaterial = defaults.elasticFromMaterial;
   settings.solver = solver;
@@ -487,7 +487,7 @@ LabScene freeFallScene()
   s.endTime = 0.5;
   s.body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 1));
   s.pbdBody = pbdBodyOf(s.body);
-  s.pbdSettings = pbdSettingsOf(s.body, s.scene, true);
+  s.pbdSettings = pbdSettingsOf(s.scene, true);
   const double exact = 0.5 * kG * s.endTime * s.endTime;
   s.error = [exact](const Simulation& sim) {
     const Vec3 d = centroid(sim.positions()) - centroid(sim.restPositions());
@@ -536,7 +536,7 @@ double xpbdContinuumAnswer(const LabScene& s, MaterialModel model,
   PbdBody body = s.pbdBody;
   body.material.massDistribution = MassDistribution::LumpedVolume;
   body.material.model = model;
-  PbdSettings settings = pbdSettingsOf(s.body, s.scene, true);
+  PbdSettings settings = pbdSettingsOf(s.scene, true);
   settings.iterations = 10;
   settings.substeps = 16;
   settings.damping = 5.0;
@@ -690,7 +690,7 @@ ElasticScene barScene()
     s.body.pinned[i] = 1;
   }
   s.pbdBody = pbdBodyOf(s.body);
-  s.pbdSettings = pbdSettingsOf(s.body, s.scene, true);
+  s.pbdSettings = pbdSettingsOf(s.scene, true);
   s.pbd = false; // PBD's stiffness has no Young's modulus: no elastic answer to compare with
   const auto bottom = pointsWhere(s.body.mesh, [](const Vec3& p) { return p.z() < 1e-9; });
   const double E = 1.0e5, rho = 1000.0;
@@ -724,7 +724,7 @@ ElasticScene cantileverScene()
     s.body.pinned[i] = 1;
   }
   s.pbdBody = pbdBodyOf(s.body);
-  s.pbdSettings = pbdSettingsOf(s.body, s.scene, true);
+  s.pbdSettings = pbdSettingsOf(s.scene, true);
   s.pbd = false;
   const auto tip = pointsWhere(s.body.mesh, [&](const Vec3& p) { return p.x() > L - 1e-9; });
   const double A = h * h, I = h * h * h * h / 12, q = rho * A * kG, G = E / (2 * (1 + nu)), kappa = 5.0 / 6;
@@ -824,7 +824,7 @@ LabScene restitutionScene(bool cube)
     }
     s.pbdBody.pointMass.assign(9, 0.01);
   }
-  s.pbdSettings = pbdSettingsOf(s.body, s.scene, true);
+  s.pbdSettings = pbdSettingsOf(s.scene, true);
   s.pbdSettings.collisions.restitution = e;
   // Bodies rest a contact margin (plus a particle's radius) above the floor: a stated margin, so
   // heights are measured from where the body rests, and the drop is h0 less that.
@@ -877,7 +877,7 @@ LabScene inclineScene(double thetaDegrees, double mu, bool sticks)
   s.scene.floorEnabled = true;
   s.scene.floor.normal = R * Vec3(0, 0, 1);
   s.pbdBody = pbdBodyOf(s.body);
-  s.pbdSettings = pbdSettingsOf(s.body, s.scene, true);
+  s.pbdSettings = pbdSettingsOf(s.scene, true);
   s.pbdSettings.collisions.staticFriction = mu;
   s.pbdSettings.collisions.dynamicFriction = mu;
   s.scene.collisions.staticFriction = mu;
@@ -993,7 +993,7 @@ bool meshDropScene(const DropSpec& d, TetMesh mesh, LabScene& s, std::string& no
   s.body.material.physical.dampingTime = d.dampingTime;
   s.scene.floorEnabled = true;
   s.pbdBody = pbdBodyOf(s.body);
-  s.pbdSettings = pbdSettingsOf(s.body, s.scene, true);
+  s.pbdSettings = pbdSettingsOf(s.scene, true);
   s.pbd = false;
   std::printf("  %s: %zu points, %zu tets, %s, E %.3g Pa, damping time %.3g s, %.3g s\n", d.name,
     mesh.points.size(), mesh.tets.size(), d.what, d.youngsModulus, d.dampingTime, d.endTime);
@@ -1136,18 +1136,23 @@ std::string stabilityTable(const std::string& dataDir, const std::string& out)
   md << "| mesh | points | tets | integrator | automatic step [ms] | bisected limit [ms] | automatic / limit |\n"
         "|---|---|---|---|---|---|---|\n";
   const int iterations = gQuick ? 5 : 9;
+  // The spring network at the default and the thesis's damping; Corotated (whose automatic
+  // step rests on the same Lanczos estimate, on linear elasticity) at the default.
+  const std::pair<MaterialModel, bool> variants[] = { { MaterialModel::SpringNetwork, false },
+    { MaterialModel::SpringNetwork, true }, { MaterialModel::Corotated, false } };
   for (const auto& named : meshes)
-  for (const bool thesisDamping : { false, true })
+  for (const auto& [model, thesisDamping] : variants)
   {
     BodyDescription body;
     body.mesh = named.mesh;
+    body.material.model = model;
     // Default material: E 1e5 Pa, nu 0.3, rho 1100 kg/m^3, damping time 2 ms, which over-damps
     // the highest modes (beta omega_max >> 2): there every integrator's limit is ~2 / (beta
     // omega^2) and all four are alike. The thesis's Table 6.1 (Euler 3.0 < Midpoint 3.5 < Verlet
     // 6.5 = Euler-Cromer 6.5 ms) implies under-damped top modes: Euler is stable up to h = beta
     // and Verlet to ~2 / omega, so Euler / Verlet = beta omega / 2 = 3.0 / 6.5 is the top mode's
     // damping ratio. The "thesis damping" rows set beta = 2 x 0.46 / omega_max.
-    std::string label = named.name;
+    std::string label = named.name + (model == MaterialModel::SpringNetwork ? "" : std::string(", ") + materialModelName(model));
     if (thesisDamping)
     {
       // omega_max itself (the Lanczos estimate, converged on these meshes: the frequency
@@ -1327,7 +1332,7 @@ int runStressCell(int caseIndex, int methodIndex)
     if (isPbd)
     {
       PbdBody p = pbdBodyOf(body);
-      PbdSettings s = pbdSettingsOf(body, scene, isXpbd);
+      PbdSettings s = pbdSettingsOf(scene, isXpbd);
       s.timeStep = stepFactor > 0 ? stepFactor / 60.0 : 1.0 / 60.0;
       sim = std::make_unique<PbdSimulation>(p, s);
     }

@@ -4,6 +4,8 @@
 #include "softbody/massspring/mass_spring_setup.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
+#include "softbody/material/tet_elastic_forces.h"
+#include "softbody/stability/element_frequency.h"
 #include "softbody/stability/stability.h"
 
 #include <Eigen/Eigenvalues>
@@ -152,6 +154,96 @@ TEST(Stability, FrequencyEstimateIsJustAboveTheExactTopFrequency)
   }
 }
 
+namespace
+{
+/// denseHighestFrequency for a continuum body: K by central differences of the law's own
+/// elastic forces (computeTetElasticForces at zero velocity), so the estimate's linear-elasticity
+/// product is checked against the material it stands for.
+double denseContinuumFrequency(const MassSpringSimulation& sim)
+{
+  const std::vector<Vec3>& rest = sim.restPositions();
+  const std::vector<double>& w = sim.inverseMasses();
+  const std::size_t n = rest.size();
+  const std::vector<Vec3> still(n, Vec3::Zero());
+  TetElasticScratch scratch;
+  std::vector<Vec3> plus, minus;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  const double epsilon = 1e-7 * 0.05;
+  for (std::size_t j = 0; j < 3 * n; ++j)
+  {
+    std::vector<Vec3> x = rest;
+    x[j / 3][j % 3] += epsilon;
+    computeTetElasticForces(sim.topology(), sim.tetElasticConstants(), x, still, scratch, plus);
+    x[j / 3][j % 3] -= 2 * epsilon;
+    computeTetElasticForces(sim.topology(), sim.tetElasticConstants(), x, still, scratch, minus);
+    for (std::size_t i = 0; i < 3 * n; ++i)
+    {
+      a(i, j) = -(plus[i / 3][i % 3] - minus[i / 3][i % 3]) / (2 * epsilon) * std::sqrt(w[i / 3] * w[j / 3]);
+    }
+  }
+  const Eigen::MatrixXd symmetric = 0.5 * (a + a.transpose());
+  return std::sqrt(
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(symmetric, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff());
+}
+} // namespace
+
+TEST(Stability, ContinuumFrequencyEstimateIsJustAboveTheExactTopFrequencyOfEitherLaw)
+{
+  // The continuum models' estimate runs Lanczos on linear elasticity with the typed E and nu,
+  // which both laws must linearize to at rest: on a jittered box with its bottom pinned (and a
+  // spread of element sizes) and at nu = 0.3 and 0.45, it is not below the exact omega_max of
+  // either law's own forces, and within 5 % above it; the Gershgorin bound it replaces is above
+  // both.
+  TetMesh jittered = makeTetBox(4, 3, 3, 0.02);
+  jittered.points = test::jitter(jittered.points, 0.006);
+  for (MaterialModel model : { MaterialModel::Corotated, MaterialModel::StableNeoHookean })
+  {
+    for (double nu : { 0.3, 0.45 })
+    {
+      BodyDescription body;
+      body.mesh = jittered;
+      body.material.model = model;
+      body.material.physical.youngsModulus = 1e6;
+      body.material.physical.poissonRatio = nu;
+      body.pinned.assign(jittered.points.size(), 0);
+      for (std::size_t i = 0; i < jittered.points.size(); ++i)
+      {
+        body.pinned[i] = jittered.points[i].z() < 1e-9 ? 1 : 0;
+      }
+      const MassSpringSimulation sim(body, SceneSettings{});
+      const double exact = denseContinuumFrequency(sim);
+      const auto& w = sim.inverseMasses();
+      const LanczosFrequency lanczos = continuumLanczosEstimate(
+        sim.topology(), sim.tetElasticConstants(), w, sim.restPositions(), kFrequencyLanczosSteps);
+      const double gershgorin = continuumGershgorinBound(sim.topology(), sim.tetElasticConstants(), w, sim.restPositions());
+      std::printf("%s, nu %.2f: omega_max %.6g rad/s; Lanczos %.6g (Ritz %.6g), Gershgorin %.6g (%.2f x)\n",
+        materialModelName(model), nu, exact, lanczos.upperOmega, lanczos.ritzOmega, gershgorin, gershgorin / exact);
+      EXPECT_GE(lanczos.upperOmega, exact * (1 - 1e-6)) << materialModelName(model) << " nu " << nu;
+      EXPECT_LE(lanczos.upperOmega, 1.05 * exact) << materialModelName(model) << " nu " << nu;
+      EXPECT_LE(lanczos.ritzOmega, exact * (1 + 1e-6)) << materialModelName(model) << " nu " << nu;
+      EXPECT_GE(gershgorin, exact * (1 - 1e-6)) << materialModelName(model) << " nu " << nu;
+      EXPECT_EQ(sim.highestFrequency(), std::min(gershgorin, kDeformationMargin * lanczos.upperOmega));
+    }
+  }
+}
+
+TEST(Stability, ContinuumFrequencyEstimateIsTheSameAtAnyThreadCount)
+{
+  BodyDescription body;
+  body.mesh = makeTetBox(12, 10, 8, 0.01);
+  body.material.model = MaterialModel::Corotated;
+  auto estimate = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    const MassSpringSimulation sim(body, SceneSettings{});
+    return continuumLanczosEstimate(sim.topology(), sim.tetElasticConstants(), sim.inverseMasses(),
+      sim.restPositions(), kFrequencyLanczosSteps);
+  };
+  const LanczosFrequency one = estimate(1), two = estimate(2);
+  EXPECT_EQ(one.upperOmega, two.upperOmega);
+  EXPECT_EQ(one.ritzOmega, two.ritzOmega);
+  EXPECT_EQ(one.iterations, kFrequencyLanczosSteps);
+}
+
 TEST(Stability, FrequencyEstimateIsTheSameAtAnyThreadCount)
 {
   BodyDescription body;
@@ -243,6 +335,36 @@ TEST(Stability, AutomaticStepIsSafeAndWithinTwoOfTheBisectedLimit)
     EXPECT_LT(ratio, 1.0) << integratorName(c.integrator);
     EXPECT_GE(ratio, 0.5) << integratorName(c.integrator);
     EXPECT_FALSE(blowsUp(body, scene, h, 3000)) << integratorName(c.integrator);
+  }
+}
+
+TEST(Stability, ContinuumAutomaticStepIsSafeAndWithinTwoOfTheBisectedLimit)
+{
+  // The same for the finite-element models, whose estimate is the Lanczos one on linear
+  // elasticity: below the bisected limit, and at least half of it (the Gershgorin bound they
+  // used alone gives 2.3-2.9x omega_max on a jittered box, Stability.ContinuumFrequencyEstimate*).
+  for (MaterialModel model : { MaterialModel::Corotated, MaterialModel::StableNeoHookean })
+  {
+    for (const auto& [integrator, dampingTime] :
+      { std::pair{ Integrator::Verlet, 0.0 }, std::pair{ Integrator::EulerCromer, 2e-3 } })
+    {
+      BodyDescription body;
+      body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 0.1));
+      body.material.model = model;
+      body.material.physical.dampingTime = dampingTime;
+      SceneSettings scene;
+      scene.integrator = integrator;
+      const MassSpringSimulation automatic(body, scene);
+      const double h = automatic.stepSize();
+      ASSERT_GT(h, 0.0);
+      const double limit = bisectedLimit(body, scene, 0.5 * h, 8.0 * h);
+      const double ratio = h / limit;
+      std::printf("%s, %s: automatic step %.4g s, bisected limit %.4g s, ratio %.3f\n", materialModelName(model),
+        integratorName(integrator), h, limit, ratio);
+      EXPECT_LT(ratio, 1.0) << materialModelName(model) << ", " << integratorName(integrator);
+      EXPECT_GE(ratio, 0.5) << materialModelName(model) << ", " << integratorName(integrator);
+      EXPECT_FALSE(blowsUp(body, scene, h, 3000)) << materialModelName(model) << ", " << integratorName(integrator);
+    }
   }
 }
 

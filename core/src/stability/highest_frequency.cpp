@@ -184,13 +184,25 @@ LanczosFrequency lanczosFrequencyEstimate(const Topology& topology,
   const ElementConstants& constants, const std::vector<double>& inverseMass,
   const std::vector<Vec3>& restPositions, int iterations)
 {
+  if (topology.vertexCount == 0 || iterations < 1)
+  {
+    return {};
+  }
+  ScaledRestStiffness stiffness(topology, constants, inverseMass, restPositions);
+  return lanczosFrequencyEstimate(
+    [&](const std::vector<Vec3>& x, std::vector<Vec3>& y) { stiffness.apply(x, y); }, inverseMass, restPositions,
+    iterations);
+}
+
+LanczosFrequency lanczosFrequencyEstimate(const ScaledRestProduct& product,
+  const std::vector<double>& inverseMass, const std::vector<Vec3>& restPositions, int iterations)
+{
   LanczosFrequency result;
-  const std::size_t n = topology.vertexCount;
+  const std::size_t n = restPositions.size();
   if (n == 0 || iterations < 1)
   {
     return result;
   }
-  ScaledRestStiffness stiffness(topology, constants, inverseMass, restPositions);
 
   // Plain Lanczos (three-term recurrence, no reorthogonalization: its loss of orthogonality
   // only repeats converged Ritz values, it does not move the top one past lambda_max).
@@ -211,7 +223,7 @@ LanczosFrequency lanczosFrequencyEstimate(const Topology& topology,
   double scaleOfT = 0.0;
   for (int j = 0; j < iterations; ++j)
   {
-    stiffness.apply(q, w);
+    product(q, w);
     const double a = dot(q, w);
     const double b0 = beta.empty() ? 0.0 : beta.back();
     parallelFor(n, kGrain, [&](std::size_t i) { w[i] -= a * q[i] + b0 * previous[i]; });

@@ -22,6 +22,7 @@
 #include "softbody/material/material.h"
 #include "softbody/mesh/topology.h"
 
+#include <functional>
 #include <vector>
 
 namespace softbody
@@ -46,6 +47,16 @@ struct LanczosFrequency
 LanczosFrequency lanczosFrequencyEstimate(const Topology& topology,
   const ElementConstants& constants, const std::vector<double>& inverseMass,
   const std::vector<Vec3>& restPositions, int iterations);
+
+/// y = M^-1/2 K M^-1/2 x for some rest stiffness K: the operator the iteration runs on. It
+/// must be the same bit for bit at any thread count (sums in a fixed order) for the estimate
+/// to be.
+using ScaledRestProduct = std::function<void(const std::vector<Vec3>& x, std::vector<Vec3>& y)>;
+
+/// The same iteration on any body's scaled rest stiffness (the continuum models',
+/// element_frequency.h), from the same start vector.
+LanczosFrequency lanczosFrequencyEstimate(const ScaledRestProduct& product,
+  const std::vector<double>& inverseMass, const std::vector<Vec3>& restPositions, int iterations);
 
 /// Lanczos steps the set-up uses: the top Ritz value of the public meshes (slivers included) is
 /// within a few percent of omega_max by then, and the cost is that many force evaluations.
