@@ -77,15 +77,14 @@ TEST(Stability, FrequencyEstimateOfASingleFreeCornerIsItsExactFrequency)
 namespace
 {
 /// The exact omega_max of a body at rest from a dense eigensolve of M^-1/2 K M^-1/2, with K
-/// assembled by central differences of the simulation's own force kernel (an independent path:
-/// the estimate's matrix-free product is derived by hand).
-double denseHighestFrequency(const MassSpringSimulation& sim)
+/// assembled by central differences of a force kernel forces(x, f) at zero velocity (an
+/// independent path: the estimate's matrix-free product is derived by hand).
+template <class Forces>
+double denseTopFrequency(const MassSpringSimulation& sim, const Forces& forces)
 {
   const std::vector<Vec3>& rest = sim.restPositions();
   const std::vector<double>& w = sim.inverseMasses();
   const std::size_t n = rest.size();
-  const std::vector<Vec3> zero(n, Vec3::Zero());
-  ForceScratch scratch;
   std::vector<Vec3> plus, minus;
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3 * n, 3 * n);
   const double epsilon = 1e-7 * 0.05;
@@ -93,20 +92,39 @@ double denseHighestFrequency(const MassSpringSimulation& sim)
   {
     std::vector<Vec3> x = rest;
     x[j / 3][j % 3] += epsilon;
-    computeInternalForces(sim.topology(), sim.elementConstants(), x, zero, scratch, plus);
+    forces(x, plus);
     x[j / 3][j % 3] -= 2 * epsilon;
-    computeInternalForces(sim.topology(), sim.elementConstants(), x, zero, scratch, minus);
+    forces(x, minus);
     for (std::size_t i = 0; i < 3 * n; ++i)
     {
       // K = -df/dx, scaled by sqrt(w_i w_j) (pinned points drop out).
-      a(i, j) = -(plus[i / 3][i % 3] - minus[i / 3][i % 3]) / (2 * epsilon) *
-        std::sqrt(w[i / 3] * w[j / 3]);
+      a(i, j) = -(plus[i / 3][i % 3] - minus[i / 3][i % 3]) / (2 * epsilon) * std::sqrt(w[i / 3] * w[j / 3]);
     }
   }
   const Eigen::MatrixXd symmetric = 0.5 * (a + a.transpose());
-  return std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(symmetric, Eigen::EigenvaluesOnly)
-                     .eigenvalues()
-                     .maxCoeff());
+  return std::sqrt(
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(symmetric, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff());
+}
+
+/// The spring network's, from the simulation's own force kernel.
+double denseHighestFrequency(const MassSpringSimulation& sim)
+{
+  const std::vector<Vec3> zero(sim.restPositions().size(), Vec3::Zero());
+  ForceScratch scratch;
+  return denseTopFrequency(sim, [&](const std::vector<Vec3>& x, std::vector<Vec3>& f) {
+    computeInternalForces(sim.topology(), sim.elementConstants(), x, zero, scratch, f);
+  });
+}
+
+/// A continuum body's, from the law's own elastic forces, so the estimate's linear-elasticity
+/// product is checked against the material it stands for.
+double denseContinuumFrequency(const MassSpringSimulation& sim)
+{
+  const std::vector<Vec3> still(sim.restPositions().size(), Vec3::Zero());
+  TetElasticScratch scratch;
+  return denseTopFrequency(sim, [&](const std::vector<Vec3>& x, std::vector<Vec3>& f) {
+    computeTetElasticForces(sim.topology(), sim.tetElasticConstants(), x, still, scratch, f);
+  });
 }
 } // namespace
 
@@ -154,38 +172,6 @@ TEST(Stability, FrequencyEstimateIsJustAboveTheExactTopFrequency)
   }
 }
 
-namespace
-{
-/// denseHighestFrequency for a continuum body: K by central differences of the law's own
-/// elastic forces (computeTetElasticForces at zero velocity), so the estimate's linear-elasticity
-/// product is checked against the material it stands for.
-double denseContinuumFrequency(const MassSpringSimulation& sim)
-{
-  const std::vector<Vec3>& rest = sim.restPositions();
-  const std::vector<double>& w = sim.inverseMasses();
-  const std::size_t n = rest.size();
-  const std::vector<Vec3> still(n, Vec3::Zero());
-  TetElasticScratch scratch;
-  std::vector<Vec3> plus, minus;
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  const double epsilon = 1e-7 * 0.05;
-  for (std::size_t j = 0; j < 3 * n; ++j)
-  {
-    std::vector<Vec3> x = rest;
-    x[j / 3][j % 3] += epsilon;
-    computeTetElasticForces(sim.topology(), sim.tetElasticConstants(), x, still, scratch, plus);
-    x[j / 3][j % 3] -= 2 * epsilon;
-    computeTetElasticForces(sim.topology(), sim.tetElasticConstants(), x, still, scratch, minus);
-    for (std::size_t i = 0; i < 3 * n; ++i)
-    {
-      a(i, j) = -(plus[i / 3][i % 3] - minus[i / 3][i % 3]) / (2 * epsilon) * std::sqrt(w[i / 3] * w[j / 3]);
-    }
-  }
-  const Eigen::MatrixXd symmetric = 0.5 * (a + a.transpose());
-  return std::sqrt(
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(symmetric, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff());
-}
-} // namespace
 
 TEST(Stability, ContinuumFrequencyEstimateIsJustAboveTheExactTopFrequencyOfEitherLaw)
 {
