@@ -209,6 +209,18 @@ TEST(Stability, ContinuumFrequencyEstimateIsJustAboveTheExactTopFrequencyOfEithe
       EXPECT_LE(lanczos.ritzOmega, exact * (1 + 1e-6)) << materialModelName(model) << " nu " << nu;
       EXPECT_GE(gershgorin, exact * (1 - 1e-6)) << materialModelName(model) << " nu " << nu;
       EXPECT_EQ(sim.highestFrequency(), std::min(gershgorin, kDeformationMargin * lanczos.upperOmega));
+      // The same body 1,000 km from the origin (its start vector, hashed from the positions,
+      // differs): the estimate still brackets the same omega_max.
+      BodyDescription far = body;
+      for (Vec3& p : far.mesh.points)
+      {
+        p += Vec3(1e6, -2e6, 5e5);
+      }
+      const MassSpringSimulation farSim(far, SceneSettings{});
+      const LanczosFrequency farLanczos = continuumLanczosEstimate(farSim.topology(), farSim.tetElasticConstants(),
+        farSim.inverseMasses(), farSim.restPositions(), kFrequencyLanczosSteps);
+      EXPECT_GE(farLanczos.upperOmega, exact * (1 - 1e-6)) << materialModelName(model) << " nu " << nu << ", far";
+      EXPECT_LE(farLanczos.upperOmega, 1.05 * exact) << materialModelName(model) << " nu " << nu << ", far";
     }
   }
 }

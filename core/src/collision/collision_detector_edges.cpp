@@ -262,9 +262,12 @@ void CollisionDetector::detectEdges(
 {
   // Blocks of edges (brute force) or the trees' edge groups, each with its own output: the
   // concatenation, sorted below, is the same at any thread count.
+  // (Groups in blocks of several: each block reuses one candidate list and one `near` list.)
   constexpr std::size_t kBlock = 256;
+  constexpr std::size_t kGroupsPerBlock = 8;
   const bool bruteForce = kind == BroadPhase::BruteForce;
-  const std::size_t blocks = bruteForce ? (Edges.size() + kBlock - 1) / kBlock : EdgeGroups.size();
+  const std::size_t blocks = bruteForce ? (Edges.size() + kBlock - 1) / kBlock
+                                        : (EdgeGroups.size() + kGroupsPerBlock - 1) / kGroupsPerBlock;
   EdgeBlockContacts.resize(blocks);
   EdgeBlockExamined.assign(blocks, 0);
   parallelFor(blocks, 1, [&](std::size_t block) {
@@ -274,7 +277,11 @@ void CollisionDetector::detectEdges(
     if (!bruteForce)
     {
       std::vector<std::int32_t> near;
-      detectEdgeGroup(block, start, predicted, candidates, near, found);
+      const std::size_t last = std::min(EdgeGroups.size(), (block + 1) * kGroupsPerBlock);
+      for (std::size_t group = block * kGroupsPerBlock; group < last; ++group)
+      {
+        detectEdgeGroup(group, start, predicted, candidates, near, found);
+      }
       EdgeBlockExamined[block] = candidates.examined;
       return;
     }
