@@ -1,6 +1,6 @@
 """Draws bench_error_control's CSV: the achieved error against the tolerance (with the line
 error = tolerance) and the cost against the best fixed step against the tolerance, one line per
-scene and integrator.
+scene, integrator and judge (embedded estimate or step doubling).
 
 Run with pvpython (matplotlib ships with Debian's ParaView packages):
     pvpython tests/bench/plot_error_control.py error_control.csv error_control.png
@@ -16,18 +16,18 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def main(csv_path, png_path):
-    series = defaultdict(lambda: ([], [], []))  # (scene, integrator) -> tolerance, error, ratio
+    series = defaultdict(lambda: ([], [], []))  # (scene, integrator, judge) -> tolerance, error, ratio
     with open(csv_path, newline="") as f:
         for row in csv.DictReader(f):
-            tolerance, error, ratio = series[(row["scene"], row["integrator"])]
+            tolerance, error, ratio = series[(row["scene"], row["integrator"], row["judge"])]
             tolerance.append(float(row["tolerance"]))
             error.append(float(row["achieved_error"]))
             ratio.append(float(row["cost_ratio"]))
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.8))
     every = sorted({t for ts, _, _ in series.values() for t in ts})
     left.loglog(every, every, color="black", linestyle="--", label="error = tolerance")
-    for (scene, integrator), (tolerance, error, ratio) in sorted(series.items()):
-        label = f"{integrator}, {scene}"
+    for (scene, integrator, judge), (tolerance, error, ratio) in sorted(series.items()):
+        label = f"{integrator} ({judge}), {scene}"
         left.loglog(tolerance, error, marker="o", label=label)
         right.semilogx(tolerance, ratio, marker="o", label=label)
     left.set(title="achieved error against the tolerance", xlabel="ErrorTolerance [m per s]",

@@ -35,15 +35,17 @@ StepJudge::StepJudge(const ErrorControl& control, double interval)
 {
 }
 
-StepJudge::Verdict StepJudge::judge(double h, double estimate)
+StepJudge::Verdict StepJudge::judge(double h, double previousStep, double estimate)
 {
   const double p = static_cast<double>(Control.order);
   double allowed = kPositionShare * Control.tolerance * h; // per second of simulated time
   int scaling = Control.order; // the estimate over the allowance grows as h^scaling
   bool event = false;
-  if (RejectedStep > h && RejectedEstimate > 0.0 && estimate > 0.0 && std::isfinite(estimate))
+  const double constant = Control.errorConstant ? Control.errorConstant(h, previousStep) : 1.0;
+  const double scaledEstimate = constant > 0.0 && std::isfinite(estimate) ? estimate / constant : 0.0;
+  if (RejectedStep > h && RejectedScaledEstimate > 0.0 && scaledEstimate > 0.0)
   {
-    const double observedOrder = std::log(RejectedEstimate / estimate) / std::log(RejectedStep / h);
+    const double observedOrder = std::log(RejectedScaledEstimate / scaledEstimate) / std::log(RejectedStep / h);
     if (observedOrder < p + 0.5)
     {
       event = true;
@@ -59,11 +61,11 @@ StepJudge::Verdict StepJudge::judge(double h, double estimate)
   if (!(estimate <= allowed) && h > floor)
   {
     RejectedStep = h;
-    RejectedEstimate = estimate;
+    RejectedScaledEstimate = scaledEstimate;
     return { false, false, event, std::max(floor, h * factor) };
   }
   RejectedStep = 0.0;
-  RejectedEstimate = 0.0;
+  RejectedScaledEstimate = 0.0;
   // After an event the motion is smooth again: the next step starts from this one.
   return { true, !(estimate <= allowed), event, event ? h : h * factor };
 }

@@ -85,30 +85,31 @@ using I = Integrator;
 // clang-format off
 constexpr std::array<IntegratorFacts, 9> kTable{ {
   // integrator            name                 order implicit symplectic evaluations
-  //   staggered velocity, GPU, undamped reference, plan's element pass and linear solve, stability
+  //   staggered velocity, GPU, undamped reference, plan's element pass and linear solve, stability,
+  //   embedded local error estimate
   { I::Euler,              "Euler",               1, false, false, 1,
-    false, true,  I::EulerCromer,        nullptr,               nullptr,                eulerRadius },
+    false, true,  I::EulerCromer,        nullptr,               nullptr,                eulerRadius, nullptr },
   { I::Midpoint,           "Midpoint",            2, false, false, 2,
-    false, true,  I::Midpoint,           nullptr,               nullptr,                midpointRadius },
+    false, true,  I::Midpoint,           nullptr,               nullptr,                midpointRadius, nullptr },
   { I::Verlet,             "Verlet",              2, false, true,  1,
-    true,  true,  I::Verlet,             nullptr,               nullptr,                kickDriftRadius },
+    true,  true,  I::Verlet,             nullptr,               nullptr,                kickDriftRadius, nullptr },
   { I::EulerCromer,        "Euler-Cromer",        1, false, true,  1,
-    false, true,  I::EulerCromer,        nullptr,               nullptr,                kickDriftRadius },
+    false, true,  I::EulerCromer,        nullptr,               nullptr,                kickDriftRadius, nullptr },
   // Newton: gradient, PSD Hessian and line-search energies; then CG on the Hessian.
   { I::ImplicitEuler,      "Implicit Euler",      1, true,  false, 1,
-    false, false, I::ImplicitEuler,      "gradient + Hessian",  "block-Jacobi PCG",     backwardEulerRadius },
+    false, false, I::ImplicitEuler,      "gradient + Hessian",  "block-Jacobi PCG",     backwardEulerRadius, &kBackwardEulerEstimate },
   // Local step: the element pass (projections = gradient); global: prefactored solves.
   { I::ProjectiveDynamics, "Projective Dynamics", 1, true,  false, 1,
-    false, false, I::ProjectiveDynamics, "local step",          "prefactored Cholesky", backwardEulerRadius },
+    false, false, I::ProjectiveDynamics, "local step",          "prefactored Cholesky", backwardEulerRadius, &kBackwardEulerEstimate },
   // Newton on the elastic energy alone; order 0: the answer does not depend on the step.
   { I::Static,             "Static",              0, true,  false, 1,
-    false, false, I::Static,             "gradient + Hessian",  "block-Jacobi PCG",     staticRadius },
+    false, false, I::Static,             "gradient + Hessian",  "block-Jacobi PCG",     staticRadius, nullptr },
   // Implicit Euler's Newton solve of 2h/3 from the extrapolated state.
   { I::Bdf2,               "BDF2",                2, true,  false, 1,
-    false, false, I::Bdf2,               "gradient + Hessian",  "block-Jacobi PCG",     bdf2Radius },
+    false, false, I::Bdf2,               "gradient + Hessian",  "block-Jacobi PCG",     bdf2Radius, &kBdf2Estimate },
   // Per-point sweeps: every element evaluated at each of its corners; no linear system.
   { I::VertexBlockDescent, "Vertex Block Descent", 1, true, false, 1,
-    false, false, I::VertexBlockDescent, "colored per-point sweeps", "3x3 per point", backwardEulerRadius },
+    false, false, I::VertexBlockDescent, "colored per-point sweeps", "3x3 per point", backwardEulerRadius, &kBackwardEulerEstimate },
 } };
 // clang-format on
 

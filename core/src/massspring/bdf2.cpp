@@ -17,7 +17,7 @@ double bdf2HalvesErrorFactor(double h, double previousStep)
 {
   const double whole = previousStep > 0.0 ? h / previousStep : 0.0;
   const double firstHalf = 0.5 * whole;
-  if (!(whole > 0.0) || whole > Bdf2Stepper::kMaxStepRatio)
+  if (!(whole > 0.0) || whole > kBdf2MaxStepRatio)
   {
     return 1.0 / 3.0; // the whole step is backward Euler's: Richardson's first-order factor
   }
@@ -30,10 +30,8 @@ double bdf2HalvesErrorFactor(double h, double previousStep)
 void Bdf2Stepper::step(double h, DynamicState& state, StepPlan& plan)
 {
   const std::size_t n = state.positions.size();
-  const bool hasHistory = state.previousPositions.size() == n && state.previousVelocities.size() == n &&
-    state.previousStep > 0.0 && h / state.previousStep <= kMaxStepRatio;
   const IncrementalPotential& potential = BackwardEuler.potential();
-  if (!hasHistory)
+  if (!isBdf2Step(state, h))
   {
     state.previousPositions = state.positions;
     state.previousVelocities = state.velocities;

@@ -335,6 +335,24 @@ void MassSpringSimulation::markPointsInContact(std::vector<char>& mask) const
   markContactPoints(Contacts, mask); // the response after the step (explicit integrators, bodies)
 }
 
+double MassSpringSimulation::largestLocalError(const EmbeddedErrorEstimate& estimate, const DynamicState& start,
+  double h, const std::vector<char>& skip)
+{
+  LocalErrors.resize(State.positions.size());
+  parallelFor(LocalErrors.size(), 4096, [&](std::size_t i) {
+    // A held component moves as its condition says: it has no error to estimate.
+    LocalErrors[i] = Masses.inverseMass[i] == 0.0 || skip[i] ? Vec3::Zero() : estimate.pointError(start, State, h, i);
+  });
+  Conditions.filterHeld(LocalErrors);
+  double largest = 0.0;
+  for (const Vec3& e : LocalErrors)
+  {
+    const double size = e.norm();
+    largest = std::isnan(size) ? std::numeric_limits<double>::infinity() : std::max(largest, size);
+  }
+  return largest;
+}
+
 void MassSpringSimulation::restartCorrectedHistories()
 {
   // The corrections after the solve (held components, strain limit, contact response) change
@@ -440,7 +458,14 @@ AdvanceStatus MassSpringSimulation::advance(double endTime, const ProgressCallba
   {
     // An explicit integrator stays within its stable step; the user's TimeStep bounds any.
     ErrorControl control{ Scene.errorTolerance, factsOf(Scene.integrator).order, Step };
-    if (Scene.integrator == Integrator::Bdf2)
+    const EmbeddedErrorEstimate* embedded = factsOf(Scene.integrator).localError;
+    if (embedded && !Scene.stepDoubling)
+    {
+      control.localError = [this, embedded](const DynamicState& start, const DynamicState&, double h,
+                             const std::vector<char>& skip) { return largestLocalError(*embedded, start, h, skip); };
+      control.errorConstant = embedded->constant;
+    }
+    else if (Scene.integrator == Integrator::Bdf2)
     {
       control.halvesErrorFactor = bdf2HalvesErrorFactor;
     }

@@ -1,14 +1,17 @@
 // Error-controlled time steps for any integrator: the step is chosen so that the local error
-// it makes stays within what the user's tolerance allows, by step doubling (Richardson).
+// it makes stays within what the user's tolerance allows, from the integrator's own (embedded)
+// estimate where it has one, else by step doubling (Richardson).
 //
-// Each step of h is taken twice, once whole and once as two halves; for an integrator of
-// order p the halves' local error is about |x_halves - x_whole| / (2^p - 1) (the largest over
-// the points). The tolerance is in metres per simulated second: a step of h may make a
-// position error of half of tolerance * h / 1 s (kPositionShare), so the errors a run accumulates over a second stay near the
-// tolerance however many steps it takes (error per unit step: the global error then scales
-// with the tolerance, where a bound per step would make it grow with the step count). A step
-// within it is accepted (the state goes on from its halves, the more accurate of the two);
-// one above is rejected, the state put back and the step shortened. The next step is
+// An embedded estimate reads the local error off the step itself (the implicit integrators:
+// integrators/local_error.h), so each try costs one step. Step doubling takes each step of h
+// twice, once whole and once as two halves, three steps a try; for an integrator of order p
+// the halves' local error is about |x_halves - x_whole| / (2^p - 1) (the largest over the
+// points). The tolerance is in metres per simulated second: a step of h may make a position
+// error of half of tolerance * h / 1 s (kPositionShare), so the errors a run accumulates over
+// a second stay near the tolerance however many steps it takes (error per unit step: the
+// global error then scales with the tolerance, where a bound per step would make it grow with
+// the step count). A step within it is accepted (the state goes on from the step, or from its
+// halves, the more accurate of the two); one above is rejected, the state put back and the step shortened. The next step is
 // h * 0.9 (allowed / estimate)^(1/p) (the estimate grows as h^(p+1), the allowance as h),
 // between a fifth and twice this one's, never above the largest step (an explicit
 // integrator's stability limit, or the user's TimeStep), and the steps end exactly at the
@@ -27,6 +30,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -45,12 +49,25 @@ struct ErrorControl
   /// previousStep; null: Richardson's 1 / (2^p - 1), right where both have the same error
   /// constant (a multistep method's whole step and halves do not: bdf2.h).
   double (*halvesErrorFactor)(double h, double previousStep) = nullptr;
+  /// The integrator's embedded estimate of the local position error [m] of the step of h it
+  /// took from `start` to `end`, the largest over the points not marked in `skip`
+  /// (integrators/local_error.h); empty: step doubling.
+  std::function<double(const DynamicState& start, const DynamicState& end, double h,
+    const std::vector<char>& skip)>
+    localError = nullptr;
+  /// The constant of the estimate's error term for a step of h after one of previousStep,
+  /// where it depends on the step ratio (BDF2's embedded estimate: bdf2_formula.h); 0 for a
+  /// step of another order (BDF2's backward-Euler steps). Null: one constant for every step.
+  /// The judge tells a non-smooth event from a smooth step by how the estimate falls when the
+  /// step is shortened, so it must compare like with like.
+  double (*errorConstant)(double h, double previousStep) = nullptr;
 };
 
 /// What the controller did in the last advance() (the filter reports it per frame).
 struct StepControlReport
 {
-  unsigned long long acceptedSteps = 0; ///< each taken whole and as two halves
+  /// Each taken once (an embedded estimate) or whole and as two halves (step doubling).
+  unsigned long long acceptedSteps = 0;
   unsigned long long rejectedSteps = 0;
   /// Accepted at the smallest step with an estimate above what the tolerance allows.
   unsigned long long stepsOverTolerance = 0;
@@ -68,7 +85,10 @@ struct StepControlReport
 constexpr double kPositionShare = 0.5;
 
 /// The smallest step the controller shortens to, as a fraction of the advance's interval.
-constexpr double kMinStepFraction = 1.0e-6;
+/// A first-order step (BDF2's first, which is backward Euler's) errs as h^2 against an
+/// allowance that shrinks as h only: from rest under an acceleration a it meets a tolerance
+/// tol at h = tol / a, 3e-7 of a 0.1 s frame for 1e-6 m/s under 32 m/s^2.
+constexpr double kMinStepFraction = 1.0e-9;
 /// The smallest step a non-smooth event is shortened to, as a fraction of the interval: below
 /// it the event is accepted over its allowance and counted (stepsOverTolerance).
 constexpr double kEventStepFraction = 1.0e-3;
@@ -81,8 +101,8 @@ double nextStepFactor(double estimate, double allowed, int order);
 /// A smooth motion's estimate falls as h^(p+1) when the step is shortened; across a contact's
 /// first instant (an inelastic landing) it falls only as h (the point stops within the step,
 /// at a time the step does not resolve), so an allowance per unit step could never be met. A
-/// step whose estimate fell from the rejected try before it at an order below p + 1/2 is
-/// such an event: it is allowed the share of the tolerance of the advance's interval (one
+/// step whose estimate (over its error constant) fell from the rejected try before it at an
+/// order below p + 1/2 is such an event: it is allowed the share of the tolerance of the advance's interval (one
 /// frame's worth of error in one go, which a step of about tolerance * interval / speed
 /// meets), and counted (StepControlReport::eventSteps).
 class StepJudge
@@ -96,12 +116,15 @@ public:
     bool event;         ///< judged as a non-smooth event
     double nextStep;    ///< [s]
   };
-  Verdict judge(double h, double estimate);
+  /// A try of h after a step of previousStep, whose error was estimated at `estimate`.
+  Verdict judge(double h, double previousStep, double estimate);
 
 private:
   const ErrorControl& Control;
   double Interval, MinStep;
-  double RejectedStep = 0.0, RejectedEstimate = 0.0; ///< the last rejected try of this step
+  /// The last rejected try of this step: its size and its estimate over its error constant
+  /// (0: none, or not comparable).
+  double RejectedStep = 0.0, RejectedScaledEstimate = 0.0;
 };
 
 /// Empty when `tolerance` [m per s] can be met on a body at `points`; else why not, quoting
@@ -155,18 +178,26 @@ AdvanceStatus advanceWithErrorControl(DynamicState& state, const ErrorControl& c
     }
     start = state;
     takeStep(h);
-    whole = state.positions;
-    inContact.assign(whole.size(), 0);
+    inContact.assign(state.positions.size(), 0);
     markContacts(inContact);
-    state = start;
-    takeStep(0.5 * h);
-    takeStep(0.5 * h);
-    markContacts(inContact);
-    const double halvesFactor = control.halvesErrorFactor
-      ? control.halvesErrorFactor(h, start.previousStep)
-      : 1.0 / (std::ldexp(1.0, control.order) - 1.0);
-    const double estimate = largestDifference(state.positions, whole, inContact) * halvesFactor;
-    const StepJudge::Verdict verdict = judge.judge(h, estimate);
+    double estimate = 0.0;
+    if (control.localError)
+    {
+      estimate = control.localError(start, state, h, inContact);
+    }
+    else
+    {
+      whole = state.positions;
+      state = start;
+      takeStep(0.5 * h);
+      takeStep(0.5 * h);
+      markContacts(inContact);
+      const double halvesFactor = control.halvesErrorFactor
+        ? control.halvesErrorFactor(h, start.previousStep)
+        : 1.0 / (std::ldexp(1.0, control.order) - 1.0);
+      estimate = largestDifference(state.positions, whole, inContact) * halvesFactor;
+    }
+    const StepJudge::Verdict verdict = judge.judge(h, start.previousStep, estimate);
     if (!verdict.accepted)
     {
       ++report.rejectedSteps;

@@ -4,6 +4,8 @@
 // the list, so a new integrator is one enumerator and one table row (plus its step).
 #pragma once
 
+#include "softbody/integrators/local_error.h"
+
 #include <span>
 
 namespace softbody
@@ -55,6 +57,9 @@ struct IntegratorFacts
   /// Spectral radius of one step of size h on the damped oscillator x'' = -omega^2 x - c x'
   /// (the test equation the stable step is found on, stability.h).
   double (*amplificationRadius)(double h, double omega, double c);
+  /// The embedded estimate of a step's local position error (local_error.h); null where there
+  /// is none, and error control judges each step by step doubling.
+  const EmbeddedErrorEstimate* localError;
 };
 
 /// Every integrator, in the order of the enumeration.

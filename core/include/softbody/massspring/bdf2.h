@@ -13,29 +13,16 @@
 //
 // Second order, A-stable and L-stable like backward Euler: it damps the modes a step cannot
 // resolve (amplification -> 0 as h w -> infinity), but a resolved mode of frequency w loses
-// O((h w)^4) of its amplitude per step where backward Euler takes O((h w)^2). The first step, and a step more than kMaxStepRatio times
-// the one before it, are backward Euler steps: the history they leave makes the next one BDF2.
+// O((h w)^4) of its amplitude per step where backward Euler takes O((h w)^2). The first step,
+// and a step more than kBdf2MaxStepRatio times the one before it, are backward Euler steps
+// (bdf2_formula.h: isBdf2Step): the history they leave makes the next one BDF2.
 #pragma once
 
+#include "softbody/integrators/bdf2_formula.h"
 #include "softbody/massspring/implicit_euler.h"
 
 namespace softbody
 {
-
-/// BDF2's coefficients for a step of ratio w = h / h_prev to the previous one.
-struct Bdf2Coefficients
-{
-  double a, b, beta;
-  static Bdf2Coefficients forRatio(double w)
-  {
-    const double d = 1.0 + 2.0 * w;
-    return { (1.0 + w) * (1.0 + w) / d, w * w / d, (1.0 + w) / d };
-  }
-  /// The local error of a step of ratio w is C(w) h^3 y''' with C(w) = -(1 + w)^2 /
-  /// (6 w (1 + 2w)) (-2/9 at a constant step): |C(w)| (error control weighs the whole step's
-  /// and the half steps' errors with it).
-  static double errorConstant(double w) { return (1.0 + w) * (1.0 + w) / (6.0 * w * (1.0 + 2.0 * w)); }
-};
 
 /// Error control's factor from |halves - whole| to the halves' error for a BDF2 step of h after
 /// one of previousStep (0: none): the whole step and the halves have different step ratios,
@@ -76,13 +63,6 @@ public:
   {
     return BackwardEuler.coordinatePreconditioner();
   }
-
-  /// The largest step ratio h / h_prev a BDF2 step is taken at. Variable-step BDF2 is
-  /// zero-stable for sequences of ratios below 1 + sqrt(2); a single larger one is not
-  /// unstable, and the error controller's whole step, which follows two half steps and may be
-  /// twice their sum, has a ratio of up to 4 (the steps it keeps, up to 2). Beyond that the
-  /// extrapolation amplifies the history (a = 2.8 at 4, 51 at 100): backward Euler instead.
-  static constexpr double kMaxStepRatio = 4.0;
 
 private:
   /// restartBdf2History for the points whose velocity is not the solve's (x+ - start) / step:

@@ -129,6 +129,11 @@ private:
   /// Error control: marks the points in contact after the last step (on a contact plane of the
   /// implicit solve, or in a contact the response after the step found).
   void markPointsInContact(std::vector<char>& mask) const;
+  /// Error control: the largest local position error of the step of h from `start` to the
+  /// state, by the integrator's embedded estimate, over the points not marked in `skip` and
+  /// the components no condition holds.
+  double largestLocalError(const EmbeddedErrorEstimate& estimate, const DynamicState& start, double h,
+    const std::vector<char>& skip);
   /// A point this fraction of its elements' size from its contact plane is in contact.
   static constexpr double kContactBand = 0.05;
 
@@ -166,6 +171,7 @@ private:
   ContactResponseStats ContactStats;
   StepControlReport StepReport;
   std::vector<Vec3> SolvedVelocities; ///< BDF2: the velocities the solve left
+  std::vector<Vec3> LocalErrors;      ///< error control: each point's embedded estimate
 };
 
 } // namespace softbody

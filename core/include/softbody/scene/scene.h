@@ -30,6 +30,10 @@ struct Scene
   StepControl stepControl = StepControl::Fixed;
   /// Error-controlled steps: the error the steps may add over a simulated second [m].
   double errorTolerance = 1.0e-4;
+  /// Error control judges each step by step doubling even where the integrator has an
+  /// embedded estimate (integrators/local_error.h): three steps a try instead of one. Not a
+  /// filter property: the lab measures the two against each other.
+  bool stepDoubling = false;
   bool operator==(const Scene&) const = default;
 
   /// Collisions Off means nothing is collided with, the floor included.
