@@ -63,7 +63,7 @@ int vtkSoftBodyCloth::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
                                 << " is over 10^8 particles; choose a smaller one.");
     return 0;
   }
-  softbody::PbdBody body;
+  softbody::Body body;
   try
   {
     body = softbody::makeCloth(spec);
@@ -76,10 +76,10 @@ int vtkSoftBodyCloth::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
 
   auto points = vtkSmartPointer<vtkPoints>::New();
   points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(static_cast<vtkIdType>(body.points.size()));
-  for (std::size_t i = 0; i < body.points.size(); ++i)
+  points->SetNumberOfPoints(static_cast<vtkIdType>(body.mesh.points.size()));
+  for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
   {
-    points->SetPoint(static_cast<vtkIdType>(i), body.points[i].data());
+    points->SetPoint(static_cast<vtkIdType>(i), body.mesh.points[i].data());
   }
   output->SetPoints(points);
 
@@ -111,7 +111,7 @@ int vtkSoftBodyCloth::RequestData(vtkInformation*, vtkInformationVector**, vtkIn
   mass->SetName("Mass");
   auto pinned = vtkSmartPointer<vtkUnsignedCharArray>::New();
   pinned->SetName("Pinned");
-  for (std::size_t i = 0; i < body.points.size(); ++i)
+  for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
   {
     mass->InsertNextValue(body.pointMass[i]);
     pinned->InsertNextValue(static_cast<unsigned char>(body.pinned[i]));

@@ -39,7 +39,7 @@ std::string vtkSoftBodyInputConversion::CheckSize(vtkUnstructuredGrid* input)
 
 //------------------------------------------------------------------------------
 std::string vtkSoftBodyInputConversion::Convert(
-  vtkUnstructuredGrid* input, const std::string& pinnedArrayName, softbody::BodyDescription& body)
+  vtkUnstructuredGrid* input, const std::string& pinnedArrayName, softbody::Body& body)
 {
   std::string error = CheckSize(input);
   if (!error.empty())
@@ -261,7 +261,7 @@ std::string ReadScalars(vtkAbstractArray* abstractArray, const char* what, vtkId
 
 //------------------------------------------------------------------------------
 std::string vtkSoftBodyInputConversion::ConvertParticles(vtkUnstructuredGrid* input,
-  const std::string& pinnedArrayName, softbody::PbdBody& body, std::vector<vtkIdType>& tetCells,
+  const std::string& pinnedArrayName, softbody::Body& body, std::vector<vtkIdType>& tetCells,
   std::vector<vtkIdType>& linkCells)
 {
   std::string error = CheckSize(input);
@@ -290,7 +290,7 @@ std::string vtkSoftBodyInputConversion::ConvertParticles(vtkUnstructuredGrid* in
     input->GetCellPoints(c, npts, pts);
     if (type == VTK_TETRA && npts == 4)
     {
-      body.tets.push_back({ ToIndex(pts[0]), ToIndex(pts[1]), ToIndex(pts[2]), ToIndex(pts[3]) });
+      body.mesh.tets.push_back({ ToIndex(pts[0]), ToIndex(pts[1]), ToIndex(pts[2]), ToIndex(pts[3]) });
       tetCells.push_back(c);
     }
     else if (type == VTK_LINE || type == VTK_POLY_LINE)
@@ -333,7 +333,7 @@ std::string vtkSoftBodyInputConversion::ConvertParticles(vtkUnstructuredGrid* in
 
   softbody::TetMesh points;
   ConvertPoints(input, points);
-  body.points = std::move(points.points);
+  body.mesh.points = std::move(points.points);
   if (vtkAbstractArray* mass = input->GetPointData()->GetAbstractArray("Mass"))
   {
     error = ReadScalars(mass, "Mass point", input->GetNumberOfPoints(), body.pointMass);

@@ -13,8 +13,8 @@
 #ifndef vtkSoftBodyInputConversion_h
 #define vtkSoftBodyInputConversion_h
 
-#include "softbody/massspring/mass_spring_simulation.h" // softbody::BodyDescription
-#include "softbody/pbd/pbd_simulation.h"          // softbody::PbdBody
+#include "softbody/massspring/mass_spring_simulation.h" // softbody::Body
+#include "softbody/pbd/pbd_simulation.h"          // softbody::Body
 
 #include "vtkType.h" // vtkIdType
 
@@ -32,7 +32,7 @@ public:
    * to show the user (`body` is then unspecified).
    */
   static std::string Convert(
-    vtkUnstructuredGrid* input, const std::string& pinnedArrayName, softbody::BodyDescription& body);
+    vtkUnstructuredGrid* input, const std::string& pinnedArrayName, softbody::Body& body);
 
   /**
    * For PBD and XPBD: tetrahedra (volumes and edges), line and poly-line cells (a distance link
@@ -42,7 +42,7 @@ public:
    * explicit link j. Returns an empty string on success, otherwise the message for the user.
    */
   static std::string ConvertParticles(vtkUnstructuredGrid* input,
-    const std::string& pinnedArrayName, softbody::PbdBody& body, std::vector<vtkIdType>& tetCells,
+    const std::string& pinnedArrayName, softbody::Body& body, std::vector<vtkIdType>& tetCells,
     std::vector<vtkIdType>& linkCells);
 
   /**

@@ -171,7 +171,7 @@ int vtkSoftBodyMeshQuality::RequestData(
   }
 
   // Convert with the Soft Body filter's own conversion, so non-tet input fails the same way.
-  softbody::BodyDescription body;
+  softbody::Body body;
   const std::string inputError = vtkSoftBodyInputConversion::Convert(input, "", body);
   if (!inputError.empty())
   {

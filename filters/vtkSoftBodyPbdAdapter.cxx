@@ -20,7 +20,7 @@ std::unique_ptr<softbody::Simulation> vtkSoftBodyPbdAdapter::Create(
   const vtkSoftBodyCoreSettings& coreSettings, vtkUnstructuredGrid* input, std::string& error,
   softbody::PbdSimulation*& solver)
 {
-  softbody::PbdBody body;
+  softbody::Body body;
   error = vtkSoftBodyInputConversion::ConvertParticles(
     input, coreSettings.PinnedPointsArray, body, this->TetCells, this->LinkCells);
   if (!error.empty())

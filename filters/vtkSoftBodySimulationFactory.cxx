@@ -24,13 +24,13 @@ constexpr double kSmallestLikelySize = 1e-3;
 
 /// The GPU mass-spring stepper, or null with the reason why not (then the caller falls back
 /// to the CPU). Invalid input throws InvalidInputError as the CPU stepper would.
-std::unique_ptr<softbody::Simulation> MakeGpuSimulation(const softbody::BodyDescription& body,
+std::unique_ptr<softbody::Simulation> MakeGpuSimulation(const softbody::Body& body,
   const softbody::SceneSettings& scene, std::string& renderer, std::string& whyNot)
 {
 #ifdef SOFTBODY_WITH_GPU
   // Built on the body renumbered for locality, like the CPU stepper (mass_spring_reordered.h).
   return softbody::buildReorderedMassSpring(body, scene, softbody::kDefaultVertexOrdering,
-    [&](softbody::BodyDescription stored) -> std::unique_ptr<softbody::Simulation> {
+    [&](softbody::Body stored) -> std::unique_ptr<softbody::Simulation> {
       std::unique_ptr<softbody::gpu::MassSpringGpuSimulation> simulation =
         softbody::gpu::tryCreateGpuMassSpring(stored, scene, whyNot);
       if (simulation)
@@ -54,7 +54,7 @@ bool BuildMassSpring(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& 
   bool withObstacles, const vtkSoftBodySimulationFactory::WarningSink& warn,
   vtkSoftBodyBuiltSimulation& built, std::string& error)
 {
-  softbody::BodyDescription body;
+  softbody::Body body;
   error = vtkSoftBodyInputConversion::Convert(input, settings.PinnedPointsArray, body);
   if (!error.empty())
   {

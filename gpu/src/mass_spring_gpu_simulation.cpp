@@ -35,27 +35,27 @@ double secondsSince(std::chrono::steady_clock::time_point start)
 
 } // namespace
 
-MassSpringGpuSimulation::MassSpringGpuSimulation(const BodyDescription& body, const SceneSettings& scene)
-  : Body(std::make_unique<Prepared>(Prepared{ prepareMassSpring(body, scene), {}, {} }))
-  , State(restState(Body->setup))
+MassSpringGpuSimulation::MassSpringGpuSimulation(const Body& body, const SceneSettings& scene)
+  : Host(std::make_unique<Prepared>(Prepared{ prepareMassSpring(body, scene), {}, {} }))
+  , State(restState(Host->setup))
 {
-  Body->plan = planMassSpring(Body->setup);
-  Body->plan.add(Stage::Transfers);
-  const SceneSettings& prepared = Body->setup.scene;
+  Host->plan = planMassSpring(Host->setup);
+  Host->plan.add(Stage::Transfers);
+  const SceneSettings& prepared = Host->setup.scene;
   if (prepared.floorActive())
   {
     // Start where the CPU stepper starts the body: lifted onto the plane its contacts hold
     // points on, the floor raised by the contact thickness (the margin).
-    Body->floor = floorContactOf(Body->setup.mesh, prepared);
+    Host->floor = floorContactOf(Host->setup.mesh, prepared);
     FloorPlane holding = prepared.floor;
-    holding.origin += Body->floor.thickness * prepared.floor.normal;
-    liftBodiesOntoPlane(Body->setup.mesh, Body->setup.masses.inverseMass, holding, State.positions);
+    holding.origin += Host->floor.thickness * prepared.floor.normal;
+    liftBodiesOntoPlane(Host->setup.mesh, Host->setup.masses.inverseMass, holding, State.positions);
   }
   Gl = SharedGlContext::acquire(); // throws GpuUnavailableError where no context can be made
   try
   {
     Gl->run([this] {
-      Device = std::make_unique<MassSpringDevice>(Body->setup, Body->plan, Body->floor);
+      Device = std::make_unique<MassSpringDevice>(Host->setup, Host->plan, Host->floor);
       Device->uploadState(State.positions, State.velocities);
     });
   }
@@ -102,11 +102,11 @@ void MassSpringGpuSimulation::restoreState(const DynamicState& snapshot)
 
 void MassSpringGpuSimulation::checkDivergence(double maxStretch, bool finiteVelocities) const
 {
-  if (hasDiverged(Body->setup.scene, maxStretch, finiteVelocities))
+  if (hasDiverged(Host->setup.scene, maxStretch, finiteVelocities))
   {
     const DynamicState& current = state(); // the message names the time; the state is kept
     throw SimulationDivergedError(divergenceMessage(current, maxStretch, finiteVelocities,
-                                    Body->setup.step, Body->setup.stableStep),
+                                    Host->setup.step, Host->setup.stableStep),
       current.time);
   }
 }
@@ -129,35 +129,35 @@ AdvanceStatus MassSpringGpuSimulation::advance(double endTime, const ProgressCal
     HostStale = true;
     State.stepCount += count;
   };
-  return advanceInEqualSteps(State, Body->setup.step, endTime, progress, runSteps,
+  return advanceInEqualSteps(State, Host->setup.step, endTime, progress, runSteps,
     [&] { checkDivergence(LastProbe.maxStretch, LastProbe.finiteVelocities); });
 }
 
 const std::vector<Vec3>& MassSpringGpuSimulation::restPositions() const
 {
-  return Body->setup.mesh.points;
+  return Host->setup.mesh.points;
 }
 
 const std::vector<double>& MassSpringGpuSimulation::inverseMasses() const
 {
-  return Body->setup.masses.inverseMass;
+  return Host->setup.masses.inverseMass;
 }
 
 double MassSpringGpuSimulation::totalMass() const
 {
-  return Body->setup.masses.totalMass;
+  return Host->setup.masses.totalMass;
 }
 
 std::vector<double> MassSpringGpuSimulation::tetVolumeRatios() const
 {
   // Only for output frames: computed on the host from the downloaded positions.
-  const MassSpringSetup& s = Body->setup;
+  const MassSpringSetup& s = Host->setup;
   return softbody::tetVolumeRatios(s.topology.tets, s.constants.restVolume, state().positions);
 }
 
 double MassSpringGpuSimulation::elasticEnergy() const
 {
-  const MassSpringSetup& s = Body->setup;
+  const MassSpringSetup& s = Host->setup;
   return isContinuum(s.model) ? tetElasticEnergy(s.topology, s.tetConstants, state().positions)
                               : softbody::elasticEnergy(s.topology, s.constants, state().positions);
 }
@@ -165,45 +165,45 @@ double MassSpringGpuSimulation::elasticEnergy() const
 TetStressField MassSpringGpuSimulation::stressField() const
 {
   // Only for output frames: computed on the host from the downloaded positions.
-  const MassSpringSetup& s = Body->setup;
+  const MassSpringSetup& s = Host->setup;
   return isContinuum(s.model) ? tetStressField(s.topology, s.tetConstants, state().positions) : TetStressField{};
 }
 
 double MassSpringGpuSimulation::stepSize() const
 {
-  return Body->setup.step;
+  return Host->setup.step;
 }
 
 double MassSpringGpuSimulation::estimatedStableStep() const
 {
-  return Body->setup.stableStep;
+  return Host->setup.stableStep;
 }
 
 const std::vector<std::string>& MassSpringGpuSimulation::warnings() const
 {
-  return Body->setup.warnings;
+  return Host->setup.warnings;
 }
 
 std::string MassSpringGpuSimulation::longRunWarning(double duration) const
 {
   // The CPU's throughput: llvmpipe is slower, a real GPU faster; the order of magnitude holds.
-  return softbody::longRunWarning(stepCostOf(Body->setup), duration);
+  return softbody::longRunWarning(stepCostOf(Host->setup), duration);
 }
 
 const StepPlan& MassSpringGpuSimulation::stepPlan() const
 {
   // GPU times arrive through GL queries: read them when asked for, not every step.
   const std::vector<double> seconds = Gl->run([this] { return Device->stageSeconds(); });
-  for (Stage stage : Body->plan.stages())
+  for (Stage stage : Host->plan.stages())
   {
-    Body->plan.seconds(stage) =
+    Host->plan.seconds(stage) =
       stage == Stage::Transfers ? TransferSeconds : seconds[static_cast<std::size_t>(stage)];
   }
-  return Body->plan;
+  return Host->plan;
 }
 
 std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(
-  const BodyDescription& body, const SceneSettings& scene, std::string& whyNot)
+  const Body& body, const SceneSettings& scene, std::string& whyNot)
 {
   if (!factsOf(scene.integrator).runsOnGpu)
   {

@@ -226,9 +226,9 @@ struct LabScene
   bool massSpring = true;
   bool pbd = true;  ///< PBD (stiffness 1) rows
   bool xpbd = true; ///< XPBD (elasticity) rows
-  BodyDescription body;
+  Body body;
   SceneSettings scene;
-  PbdBody pbdBody;
+  Body pbdBody;
   PbdSettings pbdSettings;
   std::function<double(const Simulation&)> error;
   /// For trajectory measures (rebound): a watcher per step and the final read-out.
@@ -237,11 +237,11 @@ struct LabScene
   bool reduced = false; ///< a large mesh: fewer steps and splits (what a full run can afford)
 };
 
-PbdBody pbdBodyOf(const BodyDescription& body)
+Body pbdBodyOf(const Body& body)
 {
-  PbdBody p;
-  p.points = body.mesh.points;
-  p.tets = body.mesh.tets;
+  Body p;
+  p.mesh.points = body.mesh.points;
+  p.mesh.tets = body.mesh.tets;
   p.material.physical = body.material.physical; // density, and E and nu for XPBD
   p.pinned = body.pinned;
   return p;
@@ -533,7 +533,7 @@ std::vector<ModelAnswer> gModelAnswers;
 double xpbdContinuumAnswer(const LabScene& s, MaterialModel model,
   const std::function<double(const Simulation&)>& quantity)
 {
-  PbdBody body = s.pbdBody;
+  Body body = s.pbdBody;
   body.material.massDistribution = MassDistribution::LumpedVolume;
   body.material.model = model;
   PbdSettings settings = pbdSettingsOf(s.scene, true);
@@ -555,7 +555,7 @@ void recordModelAnswers(const LabScene& s, double network, double analytic,
   gModelAnswers.push_back({ s.name, materialModelName(MaterialModel::SpringNetwork), tets, network, analytic });
   for (MaterialModel model : { MaterialModel::Corotated, MaterialModel::StableNeoHookean })
   {
-    BodyDescription body = s.body;
+    Body body = s.body;
     body.material.model = model;
     body.material.massDistribution = MassDistribution::LumpedVolume;
     SceneSettings scene = s.scene;
@@ -595,7 +595,7 @@ void recordCantileverRefinement(const LabScene& s, double analytic, double cell,
     {
       fine.body.pinned[i] = 1;
     }
-    BodyDescription network = fine.body;
+    Body network = fine.body;
     SceneSettings scene = fine.scene;
     scene.integrator = Integrator::Static;
     scene.implicit.tolerance = 1e-10;
@@ -800,12 +800,12 @@ LabScene restitutionScene(bool cube)
   s.pbdBody = pbdBodyOf(s.body);
   if (!cube)
   {
-    s.pbdBody = PbdBody{};
+    s.pbdBody = Body{};
     for (int i = 0; i < 3; ++i)
     {
       for (int j = 0; j < 3; ++j)
       {
-        s.pbdBody.points.push_back(Vec3(0.02 * i, 0.02 * j, h0));
+        s.pbdBody.mesh.points.push_back(Vec3(0.02 * i, 0.02 * j, h0));
       }
     }
     for (int i = 0; i < 3; ++i)
@@ -1099,7 +1099,7 @@ std::string substepTable(const std::map<std::string, std::vector<Row>>& byScene)
 
 /// Whether `steps` steps of h from rest with small random velocities (no gravity, no floor)
 /// multiply the energy by more than 1000 or are caught diverging.
-bool blowsUp(const BodyDescription& body, SceneSettings scene, double h, double endTime)
+bool blowsUp(const Body& body, SceneSettings scene, double h, double endTime)
 {
   scene.timeStep = h;
   scene.gravity = Vec3::Zero();
@@ -1143,7 +1143,7 @@ std::string stabilityTable(const std::string& dataDir, const std::string& out)
   for (const auto& named : meshes)
   for (const auto& [model, thesisDamping] : variants)
   {
-    BodyDescription body;
+    Body body;
     body.mesh = named.mesh;
     body.material.model = model;
     // Default material: E 1e5 Pa, nu 0.3, rho 1100 kg/m^3, damping time 2 ms, which over-damps
@@ -1235,7 +1235,7 @@ int runStressCell(int caseIndex, int methodIndex)
   const std::string c = kStressCases[caseIndex];
   const int m = methodIndex;
   const bool isPbd = m >= 6, isXpbd = m == 7;
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(3, 3, 3, 0.05, Vec3(0, 0, 0.02));
   SceneSettings scene;
   const Integrator integrators[] = { Integrator::Euler, Integrator::Midpoint, Integrator::Verlet,
@@ -1331,7 +1331,7 @@ int runStressCell(int caseIndex, int methodIndex)
     SimPtr sim;
     if (isPbd)
     {
-      PbdBody p = pbdBodyOf(body);
+      Body p = pbdBodyOf(body);
       PbdSettings s = pbdSettingsOf(scene, isXpbd);
       s.timeStep = stepFactor > 0 ? stepFactor / 60.0 : 1.0 / 60.0;
       sim = std::make_unique<PbdSimulation>(p, s);

@@ -99,7 +99,7 @@ std::string frequencyTable(const std::string& dataDir, const std::string& out, b
         "| estimate [ms] | one force evaluation [ms] |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const NamedMesh& named : meshes)
   {
-    BodyDescription body;
+    Body body;
     body.mesh = named.mesh; // default material: E 1e5 Pa, nu 0.3, rho 1100 kg/m^3
     const MassSpringSetup s = prepareMassSpring(body, SceneSettings{});
     const auto& w = s.masses.inverseMass;

@@ -54,7 +54,7 @@ namespace
 struct CollisionScene
 {
   std::string name;
-  PbdBody body;
+  Body body;
   PbdSettings settings;
   std::vector<ObstacleSurface> obstacles;
   double frame = 1.0 / 30.0; ///< [s]
@@ -63,7 +63,7 @@ struct CollisionScene
 
 /// A voxelized body: the lattice nodes of spacing h inside `inside`, linked to their 26
 /// neighbours, centred at `centre`, of total mass `mass`.
-PbdBody voxelBody(double h, double halfWidth, const Vec3& centre, double mass,
+Body voxelBody(double h, double halfWidth, const Vec3& centre, double mass,
   const std::function<bool(const Vec3&)>& inside)
 {
   LatticeGrid grid;
@@ -77,13 +77,13 @@ PbdBody voxelBody(double h, double halfWidth, const Vec3& centre, double mass,
       for (int i = 0; i < n; ++i)
         flags[grid.nodeIndex(i, j, k)] = inside(grid.position(i, j, k));
   const Lattice lattice = buildLattice(grid, flags);
-  PbdBody body;
+  Body body;
   for (const Vec3& p : lattice.points)
   {
-    body.points.push_back(centre + p);
+    body.mesh.points.push_back(centre + p);
   }
   body.links = lattice.links;
-  body.pointMass.assign(body.points.size(), mass / static_cast<double>(body.points.size()));
+  body.pointMass.assign(body.mesh.points.size(), mass / static_cast<double>(body.mesh.points.size()));
   return body;
 }
 
@@ -168,12 +168,12 @@ CollisionScene tenToriScene(bool pile, bool smoke)
   {
     const Vec3 centre = pile ? Vec3(0.0, 0.0, 0.5 + k * (high - low + 0.001))
                              : Vec3(0.6 * (k % 5), 0.6 * (k / 5), 0.5);
-    PbdBody body;
+    Body body;
     for (const Vec3& p : torus.points)
     {
-      body.points.push_back(p + centre);
+      body.mesh.points.push_back(p + centre);
     }
-    body.tets = torus.tets;
+    body.mesh.tets = torus.tets;
     test::appendBody(scene.body, body);
   }
   PbdSettings& s = scene.settings; // XPBD defaults
@@ -331,7 +331,7 @@ int main(int argc, char** argv)
       csv << scene.name << ',' << run.points << ',' << threads << ',' << collideName(collide) << ',' << run.frameMs
           << ',' << run.detectMs << ',' << run.contactMs << ',' << run.edgeContacts << ',' << run.hash << '\n';
       std::snprintf(line, sizeof line, "| %s | %zu | %zu | %d | %s | %.2f | %s | %s | %.2f | %.0f | %s |\n", scene.name.c_str(),
-        run.points, scene.body.tets.size(), threads, collideName(collide), run.frameMs,
+        run.points, scene.body.mesh.tets.size(), threads, collideName(collide), run.frameMs,
         collide == Collide::Off ? "-" : twoDecimals(run.detectMs).c_str(),
         collide == Collide::Off ? "-" : twoDecimals(run.contactMs).c_str(), run.frameMs / off.frameMs,
         run.edgeContacts, threads == 1 ? (one.hash == all.hash ? "yes" : "NO") : "");

@@ -109,7 +109,7 @@ int main(int argc, char** argv)
       for (const std::string which :
         { "pinned array", "Fixed condition", "support + force", "support + pressure" })
       {
-        BodyDescription body;
+        Body body;
         body.mesh = named.mesh;
         body.material.model = MaterialModel::Corotated;
         body.conditions = conditionsOf(which, body.mesh.points);

@@ -28,7 +28,7 @@ namespace
 struct BenchScene
 {
   std::string name;
-  BodyDescription body;
+  Body body;
   double endTime, frame;
 };
 

@@ -150,7 +150,7 @@ int main(int argc, char** argv)
     for (const Case& c : cases)
     {
       const VertexOrdering ordering = c.ordering;
-      BodyDescription body;
+      Body body;
       body.mesh = named.mesh;
       body.material.model = c.model;
       std::string whyNot, renderer, version;
@@ -158,7 +158,7 @@ int main(int argc, char** argv)
       try
       {
         gpuSimulation = buildReorderedMassSpring(body, scene, ordering,
-          [&](BodyDescription stored) -> std::unique_ptr<Simulation> {
+          [&](Body stored) -> std::unique_ptr<Simulation> {
             std::unique_ptr<gpu::MassSpringGpuSimulation> made =
               gpu::tryCreateGpuMassSpring(stored, scene, whyNot);
             if (made)

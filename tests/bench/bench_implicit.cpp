@@ -77,7 +77,7 @@ struct Explicit
 
 Explicit timeExplicit(const TetMesh& mesh, bool smoke)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = mesh;
   // Renumbered for locality, as the filter builds it (mass_spring_reordered.h).
   const std::unique_ptr<Simulation> built =
@@ -156,7 +156,7 @@ const Variant kVariants[] = {
 
 Implicit timeImplicit(const TetMesh& mesh, const Variant& variant, int frames)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = mesh;
   if (variant.steel)
   {
@@ -230,7 +230,7 @@ Implicit timeImplicit(const TetMesh& mesh, const Variant& variant, int frames)
 /// damping removes) and the sag.
 std::vector<double> cantileverTip(Integrator integrator, double step, double& seconds)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(20, 2, 2, 0.01, Vec3(0, 0, 1));
   body.pinned.assign(body.mesh.points.size(), 0);
   std::vector<std::size_t> tip;
@@ -281,7 +281,7 @@ double rmsDifference(const std::vector<double>& a, const std::vector<double>& b)
 void accuracyTable(std::ofstream& csv)
 {
   double seconds = 0.0;
-  BodyDescription probe;
+  Body probe;
   probe.mesh = makeTetBox(20, 2, 2, 0.01, Vec3(0, 0, 1));
   const double automatic = MassSpringSimulation(probe, SceneSettings{}).stepSize();
   const std::vector<double> reference = cantileverTip(Integrator::EulerCromer, automatic / 4, seconds);

@@ -76,7 +76,7 @@ struct Measurement
 /// positions in input order.
 Measurement measure(const TetMesh& mesh, VertexOrdering ordering, bool smoke, int repeat, int& steps)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = mesh;
   double lowest = 1e300;
   for (const Vec3& p : mesh.points)
@@ -301,7 +301,7 @@ int main(int argc, char** argv)
       {
         continue;
       }
-      BodyDescription body;
+      Body body;
       body.mesh = named.mesh;
       auto landed = [&](const SceneSettings& scene) {
         MassSpringSimulation sim(body, scene);

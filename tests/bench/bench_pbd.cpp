@@ -168,9 +168,9 @@ void throughput(const bench::Options& options, int maxThreads)
             continue; // sequential by definition
           }
           tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-          PbdBody body;
-          body.points = named.mesh.points;
-          body.tets = named.mesh.tets;
+          Body body;
+          body.mesh.points = named.mesh.points;
+          body.mesh.tets = named.mesh.tets;
           PbdSettings settings;
           settings.solver = solver;
           settings.floorEnabled = true;

@@ -80,9 +80,9 @@ struct Row
 /// 10 iterations, the solve stages' own time).
 double xpbdIterationSeconds(const TetMesh& mesh, MaterialModel model, int repeat)
 {
-  PbdBody body;
-  body.points = mesh.points;
-  body.tets = mesh.tets;
+  Body body;
+  body.mesh.points = mesh.points;
+  body.mesh.tets = mesh.tets;
   body.material.model = model; // E and nu: the material's defaults
   PbdSettings settings;
   settings.elasticFromMaterial = true;
@@ -280,7 +280,7 @@ int main(int argc, char** argv)
   const bench::NamedMesh landing = options.smoke
     ? bench::NamedMesh{ "box_1536", makeTetBox(8, 8, 4, 0.02) }
     : bench::meshFromSpec(options.mesh.empty() ? "ellipsoid180k" : options.mesh, options.dataDir);
-  BodyDescription body;
+  Body body;
   body.mesh = landing.mesh;
   body.material.model = MaterialModel::StableNeoHookean;
   body.material.massDistribution = MassDistribution::LumpedVolume;

@@ -52,7 +52,7 @@ using namespace softbody;
 namespace
 {
 
-struct Body
+struct BatchedBody
 {
   std::vector<Vec3> x;
   std::vector<double> w;
@@ -66,9 +66,9 @@ struct Body
 
 /// XPBD batches of the mesh stored color by color, compliant (alphaTilde of a soft rubber at a
 /// 1 ms step), positions jittered by 1% of the mean edge so every constraint has work.
-Body makeBody(const std::vector<Vec3>& points, const Topology& topology)
+BatchedBody makeBody(const std::vector<Vec3>& points, const Topology& topology)
 {
-  Body body;
+  BatchedBody body;
   body.w.assign(points.size(), 1.0);
   double meanEdge = 0.0;
   for (const Edge& e : topology.edges)
@@ -125,7 +125,7 @@ enum class Sweep
   SequentialWide
 };
 
-void iterate(Body& body, Sweep sweep)
+void iterate(BatchedBody& body, Sweep sweep)
 {
   if (sweep == Sweep::SequentialWide)
   {
@@ -200,7 +200,7 @@ int main(int argc, char** argv)
       computeReordering(VertexOrdering::Morton, named.mesh.points, named.mesh.tets, {}, true);
     const std::vector<Vec3> points = toStorageOrder(named.mesh.points, reordering.vertexOrder);
     const Topology topology = buildTopology(points.size(), reorderTets(named.mesh.tets, reordering));
-    const Body start = makeBody(points, topology);
+    const BatchedBody start = makeBody(points, topology);
 
     double seconds[5] = { 0, 0, 0, 0, 0 };
     std::vector<Vec3> after[5];
@@ -211,14 +211,14 @@ int main(int argc, char** argv)
         continue;
       }
       tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-      Body body = start;
+      BatchedBody body = start;
       seconds[int(sweep)] = bench::leastSecondsPerCall(repeat, calls, true, [&] { iterate(body, sweep); });
-      Body check = start;
+      BatchedBody check = start;
       iterate(check, sweep);
       after[int(sweep)] = check.x;
     }
     const double cores = bench::measureComputeParallelism(options.smoke ? 1 : 3);
-    Body parallel = start;
+    BatchedBody parallel = start;
     parallel.linkSchedule.storedByColor = parallel.volumeSchedule.storedByColor = true;
     const double threaded = bench::leastSecondsPerCall(repeat, calls, false, [&] {
       coloredGaussSeidelSweep(parallel.links, parallel.linkSchedule, parallel.x, parallel.w);

@@ -137,7 +137,7 @@ void stepTwice(softbody::Simulation& simulation)
 
 void massSpring(FuzzedDataProvider& in, const Body& b)
 {
-  softbody::BodyDescription body;
+  softbody::Body body;
   body.mesh.points = b.points;
   body.mesh.tets = b.tets;
   body.pinned = b.pinned;
@@ -177,7 +177,7 @@ void massSpring(FuzzedDataProvider& in, const Body& b)
 
 void pbd(FuzzedDataProvider& in, const Body& b)
 {
-  softbody::PbdBody body;
+  softbody::Body body;
   body.points = b.points;
   body.tets = b.tets;
   body.links = b.links;

@@ -48,7 +48,7 @@ inline GpuTolerance afterThresholdStages(const gpu::MassSpringGpuSimulation& gpu
 /// failure (a kernel that does not compile, say) fails the test: it is a bug, not a machine
 /// without a GPU.
 inline std::unique_ptr<gpu::MassSpringGpuSimulation> makeGpu(
-  const BodyDescription& body, const SceneSettings& scene)
+  const Body& body, const SceneSettings& scene)
 {
   std::string whyNot;
   auto simulation = gpu::tryCreateGpuMassSpring(body, scene, whyNot);

@@ -15,14 +15,14 @@ namespace softbody::test
 
 /// An n x n x n block of particles (spacing `spacing`, total mass `mass`) held by links to all
 /// 26 neighbours, as a voxelized lattice with shear links: a particle body (no tets).
-inline PbdBody particleBlock(int n, double spacing, const Vec3& origin, double mass = 1.0)
+inline Body particleBlock(int n, double spacing, const Vec3& origin, double mass = 1.0)
 {
-  PbdBody body;
+  Body body;
   auto index = [n](int i, int j, int k) { return static_cast<std::int32_t>((k * n + j) * n + i); };
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
-        body.points.push_back(origin + spacing * Vec3(i, j, k));
+        body.mesh.points.push_back(origin + spacing * Vec3(i, j, k));
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
@@ -36,20 +36,20 @@ inline PbdBody particleBlock(int n, double spacing, const Vec3& origin, double m
               if (index(a, b, c) > index(i, j, k))
                 body.links.push_back({ index(i, j, k), index(a, b, c) });
             }
-  body.pointMass.assign(body.points.size(), mass / static_cast<double>(body.points.size()));
+  body.pointMass.assign(body.mesh.points.size(), mass / static_cast<double>(body.mesh.points.size()));
   return body;
 }
 
 /// Appends `part` to `body` as another connected component.
-inline void appendBody(PbdBody& body, const PbdBody& part)
+inline void appendBody(Body& body, const Body& part)
 {
-  const auto offset = static_cast<std::int32_t>(body.points.size());
-  body.points.insert(body.points.end(), part.points.begin(), part.points.end());
-  for (Tet t : part.tets)
+  const auto offset = static_cast<std::int32_t>(body.mesh.points.size());
+  body.mesh.points.insert(body.mesh.points.end(), part.mesh.points.begin(), part.mesh.points.end());
+  for (Tet t : part.mesh.tets)
   {
     for (std::int32_t& v : t)
       v += offset;
-    body.tets.push_back(t);
+    body.mesh.tets.push_back(t);
   }
   for (auto l : part.links)
     body.links.push_back({ l[0] + offset, l[1] + offset });

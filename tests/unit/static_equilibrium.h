@@ -10,7 +10,7 @@ namespace softbody::test
 {
 
 /// Where the Static integrator puts `body`'s points, Newton solved to `tolerance`.
-inline std::vector<Vec3> staticEquilibrium(const BodyDescription& body, double tolerance = 1e-9)
+inline std::vector<Vec3> staticEquilibrium(const Body& body, double tolerance = 1e-9)
 {
   SceneSettings scene;
   scene.collisions.mode = CollisionMode::Off;

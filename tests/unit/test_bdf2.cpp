@@ -117,7 +117,7 @@ TEST(Bdf2, CantileverConvergesAtSecondOrderForEveryMaterialModel)
   for (MaterialModel model :
     { MaterialModel::SpringNetwork, MaterialModel::Corotated, MaterialModel::StableNeoHookean })
   {
-    BodyDescription body;
+    Body body;
     body.mesh = makeTetBox(10, 2, 2, 0.02, Vec3(0, 0, 1));
     body.material.model = model;
     body.material.physical.dampingTime = 0.0;
@@ -163,7 +163,7 @@ TEST(Bdf2, CantileverConvergesAtSecondOrderForEveryMaterialModel)
 // motion; both integrators are stable, and BDF2 loses far less of it than backward Euler.
 TEST(Bdf2, StiffCantileverLosesFarLessEnergyThanImplicitEuler)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(10, 2, 2, 0.02, Vec3(0, 0, 1));
   body.material.physical.youngsModulus = 2e11;
   body.material.physical.density = 7850.0;

@@ -24,7 +24,7 @@ constexpr double kLength = 1.0, kRho = 1000.0, kG = 9.81;
 /// tet's (E, rho) from its centroid height.
 struct HangingBar
 {
-  BodyDescription body;
+  Body body;
   SceneSettings scene;
   explicit HangingBar(MaterialModel model)
   {
@@ -53,7 +53,7 @@ struct HangingBar
   }
 };
 
-std::string refusal(const BodyDescription& body, const SceneSettings& scene)
+std::string refusal(const Body& body, const SceneSettings& scene)
 {
   return test::refusalOf<MassSpringSimulation>(body, scene);
 }
@@ -151,7 +151,7 @@ TEST(CellMaterials, BadValuesAreRefusedNamingTheCell)
 {
   HangingBar bar(MaterialModel::Corotated);
   const std::size_t tets = bar.body.mesh.tets.size();
-  BodyDescription body = bar.body;
+  Body body = bar.body;
   body.material.cells.youngsModulus.assign(tets, 1.0e6);
   body.material.cells.youngsModulus[5] = -3.0;
   EXPECT_EQ(refusal(body, bar.scene), "YoungsModulus of cell 5 must be > 0 Pa, got -3.");

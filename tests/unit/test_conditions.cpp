@@ -22,9 +22,9 @@ using namespace softbody;
 namespace
 {
 
-BodyDescription elasticBody(TetMesh mesh, MaterialModel model, double youngsModulus, double nu)
+Body elasticBody(TetMesh mesh, MaterialModel model, double youngsModulus, double nu)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = std::move(mesh);
   body.material.model = model;
   body.material.physical.youngsModulus = youngsModulus;
@@ -87,7 +87,7 @@ TEST(Conditions, BarPulledAtItsEndStretchesByFLOverEAAndTheSupportAnswers)
   for (MaterialModel model : { MaterialModel::Corotated, MaterialModel::StableNeoHookean,
          MaterialModel::SpringNetwork })
   {
-    BodyDescription body = elasticBody(makeTetBox(10, 2, 2, 0.01), model, youngs, 0.0);
+    Body body = elasticBody(makeTetBox(10, 2, 2, 0.01), model, youngs, 0.0);
     body.conditions.push_back(fixedAt(test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
     Condition pull;
     pull.name = "end load";
@@ -127,7 +127,7 @@ TEST(Conditions, SupportReactionBalancesTheLoadAndTheWeight)
   // The same bar with gravity: at equilibrium the support gives back -F - M g, whatever the
   // bar's sag (the elements' forces sum to zero). Every point of the support carries its share.
   const Vec3 gravity(0, 0, -9.81), force(0.3, 0.1, -0.2);
-  BodyDescription body = elasticBody(makeTetBox(10, 2, 2, 0.01), MaterialModel::Corotated, 1e5, 0.3);
+  Body body = elasticBody(makeTetBox(10, 2, 2, 0.01), MaterialModel::Corotated, 1e5, 0.3);
   body.conditions.push_back(fixedAt(test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
   Condition load;
   load.name = "load";
@@ -170,7 +170,7 @@ TEST(Conditions, TwistedBarAnswersWithTheTorsionMoment)
   for (int across : sections)
   {
     const double cell = a / across;
-    BodyDescription body = elasticBody(makeTetBox(across, across, 10 * across, cell),
+    Body body = elasticBody(makeTetBox(across, across, 10 * across, cell),
       MaterialModel::Corotated, youngs, nu);
     body.conditions.push_back(fixedAt(test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.z() < 1e-9; })));
     Condition twist;
@@ -225,7 +225,7 @@ TEST(Conditions, PrescribedPointsFollowTheirKeyframesExactly)
   for (Integrator integrator : { Integrator::EulerCromer, Integrator::Midpoint,
          Integrator::ImplicitEuler, Integrator::Static })
   {
-    BodyDescription body = elasticBody(mesh, MaterialModel::Corotated, 1e4, 0.3);
+    Body body = elasticBody(mesh, MaterialModel::Corotated, 1e4, 0.3);
     body.conditions.push_back(drive);
     SceneSettings scene = sceneWith(integrator, Vec3(0, 0, -9.81));
     scene.implicit.tolerance = 1e-6;
@@ -254,7 +254,7 @@ TEST(Conditions, RollerHoldsOnlyItsComponent)
   const TetMesh mesh = makeTetBox(3, 2, 2, 0.1);
   for (Integrator integrator : { Integrator::EulerCromer, Integrator::ImplicitEuler })
   {
-    BodyDescription body = elasticBody(mesh, MaterialModel::StableNeoHookean, 1e4, 0.3);
+    Body body = elasticBody(mesh, MaterialModel::StableNeoHookean, 1e4, 0.3);
     Condition roller = fixedAt(test::indicesWhere(mesh.points, [](const Vec3&) { return true; }), "roller");
     roller.heldAxes = { false, false, true };
     body.conditions.push_back(roller);
@@ -289,7 +289,7 @@ TEST(Conditions, PressureInflatesAClosedBodyWithNoNetForce)
   const TetMesh mesh = makeTetBox(4, 4, 4, 0.25);
   for (MaterialModel model : { MaterialModel::Corotated, MaterialModel::StableNeoHookean })
   {
-    BodyDescription body = elasticBody(mesh, model, youngs, nu);
+    Body body = elasticBody(mesh, model, youngs, nu);
     Condition inflate;
     inflate.name = "gas";
     inflate.kind = ConditionKind::Pressure;
@@ -319,7 +319,7 @@ TEST(Conditions, DeadLoadAcceleratesTheCentreOfMassAtFOverMInEveryIntegrator)
   for (Integrator integrator : { Integrator::Euler, Integrator::Midpoint, Integrator::Verlet,
          Integrator::EulerCromer, Integrator::ImplicitEuler, Integrator::ProjectiveDynamics })
   {
-    BodyDescription body = elasticBody(mesh, MaterialModel::Corotated, 1e4, 0.3);
+    Body body = elasticBody(mesh, MaterialModel::Corotated, 1e4, 0.3);
     Condition push;
     push.name = "push";
     push.kind = ConditionKind::Force;
@@ -350,7 +350,7 @@ TEST(Conditions, PullSpringBalancesItsSupport)
 {
   // A cantilever's tip pulled sideways by a spring to a target: at rest the spring's force and
   // the support's reaction cancel, and the tip sits between its rest place and the target.
-  BodyDescription body = elasticBody(makeTetBox(8, 2, 2, 0.01), MaterialModel::StableNeoHookean, 1e5, 0.3);
+  Body body = elasticBody(makeTetBox(8, 2, 2, 0.01), MaterialModel::StableNeoHookean, 1e5, 0.3);
   body.conditions.push_back(fixedAt(test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
   Condition pull;
   pull.name = "hand";
@@ -373,7 +373,7 @@ TEST(Conditions, PullSpringBalancesItsSupport)
 TEST(Conditions, ReactionsComeInTheInputOrder)
 {
   // The reordered stepper reports reactions per input point, equal to the unreordered one's.
-  BodyDescription body = elasticBody(makeTetBox(6, 2, 2, 0.01), MaterialModel::Corotated, 1e5, 0.3);
+  Body body = elasticBody(makeTetBox(6, 2, 2, 0.01), MaterialModel::Corotated, 1e5, 0.3);
   body.conditions.push_back(fixedAt(test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; })));
   const SceneSettings scene = sceneWith(Integrator::Static, Vec3(0, 0, -9.81));
   auto reordered = makeMassSpringSimulation(body, scene, VertexOrdering::Morton);
@@ -389,7 +389,7 @@ TEST(Conditions, BadConditionsAreRefusedOrWarnedByName)
 {
   const TetMesh mesh = makeTetBox(2, 2, 2, 0.1);
   const auto build = [&](std::vector<Condition> conditions, Integrator integrator = Integrator::EulerCromer) {
-    BodyDescription body = elasticBody(mesh, MaterialModel::Corotated, 1e4, 0.3);
+    Body body = elasticBody(mesh, MaterialModel::Corotated, 1e4, 0.3);
     body.conditions = std::move(conditions);
     return MassSpringSimulation(body, sceneWith(integrator));
   };

@@ -94,9 +94,9 @@ Mat3 closedFormStress(MaterialModel model, const Mat3& f, const LameParameters& 
   return mu * (1 - 1 / (ic + 1)) * f + lambda * (j - alpha) * cofactor;
 }
 
-BodyDescription bodyOf(TetMesh mesh, MaterialModel model, double poissonRatio = 0.3)
+Body bodyOf(TetMesh mesh, MaterialModel model, double poissonRatio = 0.3)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = std::move(mesh);
   body.material.model = model;
   body.material.physical.youngsModulus = 1.0e5;
@@ -126,7 +126,7 @@ void expectPatchTest(const Mat3& a)
   ASSERT_GT(interior, 10u) << "the cube needs interior points to test anything";
   for (MaterialModel model : kContinuumModels)
   {
-    BodyDescription body = bodyOf(cube, model, 0.3);
+    Body body = bodyOf(cube, model, 0.3);
     body.pinned = boundary;
     MassSpringSimulation sim(body, staticScene());
     DynamicState start = sim.state();
@@ -186,7 +186,7 @@ TEST(ContinuumSolids, NewtonConvergesQuadraticallyOnTheStaticSolve)
   // linear rate fails within two iterations.
   for (MaterialModel model : kContinuumModels)
   {
-    BodyDescription body = bodyOf(makeTetBox(2, 2, 10, 0.02), model, 0.0);
+    Body body = bodyOf(makeTetBox(2, 2, 10, 0.02), model, 0.0);
     body.material.physical.youngsModulus = 2.0e3;
     body.pinned = test::pointsWhere(body.mesh.points, [](const Vec3& p) { return p.z() > 0.2 - 1e-9; });
     SceneSettings scene = staticScene();
@@ -222,7 +222,7 @@ namespace
 
 /// The static equilibrium of `body` under gravity: how far the points `face` selects dropped.
 template <class Select>
-double staticDrop(const BodyDescription& body, Select&& face)
+double staticDrop(const Body& body, Select&& face)
 {
   SceneSettings scene = staticScene();
   scene.gravity = Vec3(0, 0, -9.81);
@@ -238,7 +238,7 @@ double staticDrop(const BodyDescription& body, Select&& face)
 double hangingBarElongation(MaterialModel model, double poissonRatio, int across)
 {
   const double length = 1.0, width = 0.1;
-  BodyDescription body = bodyOf(makeTetBox(across, across, 10 * across, width / across), model, poissonRatio);
+  Body body = bodyOf(makeTetBox(across, across, 10 * across, width / across), model, poissonRatio);
   body.material.physical.youngsModulus = 1.0e7; // strain ~1e-3: the small-strain regime
   body.material.massDistribution = MassDistribution::LumpedVolume; // the finite-element lumping
   body.pinned = test::pointsWhere(body.mesh.points, [&](const Vec3& p) { return p.z() > length - 1e-9; });
@@ -301,7 +301,7 @@ namespace
 double cantileverTipDeflection(MaterialModel model, double poissonRatio, int cellsAcross)
 {
   const double h = 0.1, length = 5 * h;
-  BodyDescription body = bodyOf(makeTetBox(5 * cellsAcross, cellsAcross, cellsAcross, h / cellsAcross), model, poissonRatio);
+  Body body = bodyOf(makeTetBox(5 * cellsAcross, cellsAcross, cellsAcross, h / cellsAcross), model, poissonRatio);
   body.material.physical.youngsModulus = 1.0e8; // tip deflection ~2e-4 of the length: linear
   body.material.massDistribution = MassDistribution::LumpedVolume;
   body.pinned = test::pointsWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; });
@@ -350,7 +350,7 @@ TEST(ContinuumSolids, CrushedAndInvertedBodyRecoversItsRestShape)
   const TetMesh box = makeTetBox(4, 4, 4, 0.05);
   for (MaterialModel model : kContinuumModels)
   {
-    BodyDescription body = bodyOf(box, model, 0.3);
+    Body body = bodyOf(box, model, 0.3);
     SceneSettings scene;
     scene.integrator = Integrator::ImplicitEuler;
     scene.gravity = Vec3::Zero();
@@ -384,7 +384,7 @@ TEST(ContinuumSolids, MidpointConservesEnergyToSecondOrder)
     double previous = 0.0;
     for (double h : { 1e-4, 5e-5 })
     {
-      BodyDescription body = bodyOf(makeTetBox(3, 3, 3, 0.05), model, 0.3);
+      Body body = bodyOf(makeTetBox(3, 3, 3, 0.05), model, 0.3);
       body.material.physical.dampingTime = 0.0;
       SceneSettings scene;
       scene.integrator = Integrator::Midpoint;
@@ -424,7 +424,7 @@ TEST(ContinuumSolids, ProjectiveDynamicsConvergesToImplicitEulersStep)
   // Dynamics' answer comes to Newton's, to the precision Newton's own answer has.
   for (MaterialModel model : kContinuumModels)
   {
-    BodyDescription body = bodyOf(makeTetBox(3, 3, 3, 0.05), model, 0.3);
+    Body body = bodyOf(makeTetBox(3, 3, 3, 0.05), model, 0.3);
     DynamicState start;
     start.positions = test::jitter(body.mesh.points, 0.005);
     start.velocities = test::randomVectors(start.positions.size(), 0.5);
@@ -459,7 +459,7 @@ TEST(ContinuumSolids, ProjectiveDynamicsConvergesToImplicitEulersStep)
 namespace
 {
 
-std::string refusal(BodyDescription body, SceneSettings scene)
+std::string refusal(Body body, SceneSettings scene)
 {
   try
   {
@@ -484,12 +484,12 @@ TEST(ContinuumSolids, RefusesWhatHasNoMeaningQuotingTheValue)
     EXPECT_NE(message.find("PoissonRatio"), std::string::npos) << message;
     EXPECT_NE(message.find(check::quote(nu)), std::string::npos) << message;
   }
-  BodyDescription raw = bodyOf(box, MaterialModel::StableNeoHookean);
+  Body raw = bodyOf(box, MaterialModel::StableNeoHookean);
   raw.material.mode = MaterialMode::Raw;
   EXPECT_NE(refusal(raw, scene).find("MaterialMode to Physical"), std::string::npos);
   const std::string unheld = refusal(bodyOf(box, MaterialModel::Corotated), staticScene());
   EXPECT_NE(unheld.find("0 fixed points"), std::string::npos) << unheld;
-  BodyDescription onALine = bodyOf(box, MaterialModel::Corotated);
+  Body onALine = bodyOf(box, MaterialModel::Corotated);
   onALine.pinned.assign(box.points.size(), 0);
   for (std::size_t i = 0; i < box.points.size(); ++i)
   {

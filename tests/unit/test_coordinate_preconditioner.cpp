@@ -22,9 +22,9 @@ namespace
 {
 
 /// A 10 x 2 x 2 cantilever of 2 cm cells, pinned at x = 0.
-BodyDescription cantilever(MaterialModel model, double youngsModulus)
+Body cantilever(MaterialModel model, double youngsModulus)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(10, 2, 2, 0.02, Vec3(0, 0, 1));
   body.material.model = model;
   body.material.physical.youngsModulus = youngsModulus;
@@ -46,7 +46,7 @@ struct SolveRun
   std::size_t warnings = 0;
 };
 
-SolveRun run(const BodyDescription& body, Integrator integrator, LinearPreconditioner preconditioner,
+SolveRun run(const Body& body, Integrator integrator, LinearPreconditioner preconditioner,
   double step, int steps)
 {
   SceneSettings scene;
@@ -76,7 +76,7 @@ TEST(CoordinatePreconditioner, ItsMatrixIsInertiaPlusAStiffnessThatTranslationsD
 {
   for (MaterialModel model : { MaterialModel::SpringNetwork, MaterialModel::Corotated })
   {
-    BodyDescription body = cantilever(model, 1e6);
+    Body body = cantilever(model, 1e6);
     body.pinned.clear();
     SceneSettings scene;
     scene.integrator = Integrator::ImplicitEuler;
@@ -108,7 +108,7 @@ TEST(CoordinatePreconditioner, SteelCantileverSameSolutionInFewerIterations)
   for (MaterialModel model : { MaterialModel::SpringNetwork, MaterialModel::Corotated,
          MaterialModel::StableNeoHookean })
   {
-    const BodyDescription body = cantilever(model, 2e11);
+    const Body body = cantilever(model, 2e11);
     const SolveRun jacobi = run(body, Integrator::ImplicitEuler, LinearPreconditioner::BlockJacobi, 1.0 / 60, 6);
     const SolveRun coordinate = run(body, Integrator::ImplicitEuler, LinearPreconditioner::Coordinate, 1.0 / 60, 6);
     const std::string name = materialModelName(model);
@@ -128,7 +128,7 @@ TEST(CoordinatePreconditioner, IncompleteFactorSameSolutionBetweenJacobiAndCompl
 {
   for (MaterialModel model : { MaterialModel::SpringNetwork, MaterialModel::StableNeoHookean })
   {
-    const BodyDescription body = cantilever(model, 2e11);
+    const Body body = cantilever(model, 2e11);
     const SolveRun jacobi = run(body, Integrator::ImplicitEuler, LinearPreconditioner::BlockJacobi, 1.0 / 60, 6);
     const SolveRun complete = run(body, Integrator::ImplicitEuler, LinearPreconditioner::Coordinate, 1.0 / 60, 6);
     const SolveRun incomplete =
@@ -159,7 +159,7 @@ TEST(CoordinatePreconditioner, IncompleteFactorSameSolutionBetweenJacobiAndCompl
 // preconditioner.
 TEST(CoordinatePreconditioner, StaticSolveAndBdf2ReachTheSameSolution)
 {
-  const BodyDescription body = cantilever(MaterialModel::StableNeoHookean, 1e7);
+  const Body body = cantilever(MaterialModel::StableNeoHookean, 1e7);
   for (Integrator integrator : { Integrator::Static, Integrator::Bdf2 })
   {
     const SolveRun jacobi = run(body, integrator, LinearPreconditioner::BlockJacobi, 1.0 / 60, 4);
@@ -174,7 +174,7 @@ TEST(CoordinatePreconditioner, StaticSolveAndBdf2ReachTheSameSolution)
 // factor.
 TEST(CoordinatePreconditioner, RefactorsOnlyWhenTheStepLeavesSqrt2OfTheFactoredOne)
 {
-  const BodyDescription body = cantilever(MaterialModel::Corotated, 1e6);
+  const Body body = cantilever(MaterialModel::Corotated, 1e6);
   SceneSettings scene;
   scene.integrator = Integrator::ImplicitEuler;
   scene.implicit.preconditioner = LinearPreconditioner::Coordinate;
@@ -200,7 +200,7 @@ TEST(CoordinatePreconditioner, ResultsDoNotDependOnTheThreadCount)
     for (std::size_t threads : { 1u, 2u })
     {
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-      BodyDescription body;
+      Body body;
       body.mesh = makeTetBox(6, 5, 4, 0.03, Vec3(0, 0, 0.05));
       body.material.model = MaterialModel::StableNeoHookean;
       SceneSettings scene;

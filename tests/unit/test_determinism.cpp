@@ -43,7 +43,7 @@ SceneSettings busyScene(Integrator integrator)
 DynamicState runWithThreads(std::size_t threads, const SceneSettings& scene)
 {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(14, 12, 12, 0.02, Vec3(0, 0, 0.05)); // > one grain of every loop
   MassSpringSimulation sim(body, scene);
   sim.advance(0.15);

@@ -177,11 +177,11 @@ CollisionGeometry barsGeometry(const CrossedBars& bars)
 }
 
 /// The bars as one XPBD body (the rails' ends pinned), and XPBD defaults without a floor.
-PbdBody barsBody(const CrossedBars& bars)
+Body barsBody(const CrossedBars& bars)
 {
-  PbdBody body;
-  body.points = bars.mesh.points;
-  body.tets = bars.mesh.tets;
+  Body body;
+  body.mesh.points = bars.mesh.points;
+  body.mesh.tets = bars.mesh.tets;
   body.pinned = bars.pinned;
   return body;
 }
@@ -285,7 +285,7 @@ TEST(EdgeContacts, ABarDroppedAcrossTwoRidgesRestsOnThemUnderEveryMethodAndFalls
     return lowest;
   };
   auto massSpring = [&](Integrator integrator, bool edges) {
-    BodyDescription body;
+    Body body;
     body.mesh = bars.mesh;
     body.pinned = bars.pinned;
     SceneSettings scene;
@@ -350,9 +350,9 @@ TEST(EdgeContacts, TheTreesFindWhatBruteForceFindsOnTwoTetGenToriMovingIntoEachO
   {
     TetMesh torus;
     const std::int32_t first = body == 0 ? 0 : lowerPoints;
-    const auto last = body == 0 ? lowerPoints : static_cast<std::int32_t>(pair.body.points.size());
-    torus.points.assign(pair.body.points.begin() + first, pair.body.points.begin() + last);
-    for (Tet t : pair.body.tets)
+    const auto last = body == 0 ? lowerPoints : static_cast<std::int32_t>(pair.body.mesh.points.size());
+    torus.points.assign(pair.body.mesh.points.begin() + first, pair.body.mesh.points.begin() + last);
+    for (Tet t : pair.body.mesh.tets)
     {
       if (t[0] >= first && t[0] < last)
       {

@@ -21,9 +21,9 @@ using namespace softbody;
 namespace
 {
 
-BodyDescription undampedBox()
+Body undampedBox()
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 0.5)); // 27 points, 48 tets
   body.material.physical.dampingTime = 0.0;
   return body;
@@ -118,7 +118,7 @@ struct EnergyRun
 /// 10 checkpoints of `chunk` steps of h = `omegaH` / omega_max from a small random displacement.
 EnergyRun runUndamped(Integrator integrator, double omegaH, int chunk)
 {
-  const BodyDescription body = undampedBox();
+  const Body body = undampedBox();
   MassSpringSimulation probe(body, SceneSettings{});
   const Modes modes = linearModes(probe);
   const double h = omegaH / std::sqrt(modes.omega2.maxCoeff());

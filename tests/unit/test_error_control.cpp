@@ -27,9 +27,9 @@ using Spring = test::SpringOscillator;
 
 /// A bar of 2 x 2 x 10 cells hanging from its pinned top face, released from rest: it stretches
 /// and oscillates about its static elongation.
-BodyDescription hangingBar()
+Body hangingBar()
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(2, 2, 10, 0.02, Vec3(0, 0, 1));
   body.material.physical.dampingTime = 0.0;
   body.pinned.assign(body.mesh.points.size(), 0);
@@ -186,7 +186,7 @@ TEST(ErrorControl, EmbeddedEstimatesAreTheLeadingTermOfTheTrueLocalError)
 // within its stable step) with error-controlled steps against a BDF2 reference at a fixed step 1/16 of the smallest the controller took.
 TEST(ErrorControl, HangingBarMeetsTheToleranceWithImplicitAndExplicitIntegrators)
 {
-  const BodyDescription body = hangingBar();
+  const Body body = hangingBar();
   const double endTime = 0.3;
   const auto run = [&](SceneSettings scene) {
     scene.implicit.tolerance = 1e-10;

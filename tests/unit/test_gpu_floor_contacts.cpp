@@ -28,7 +28,7 @@ constexpr double kMargin = 0.001;
 /// A 12 cm box resting on the floor tilted by `angle`, friction mu (static = dynamic).
 struct Incline
 {
-  BodyDescription body;
+  Body body;
   SceneSettings scene;
 };
 
@@ -93,7 +93,7 @@ TEST(GpuFloorContacts, RestitutionGivesAReboundOfESquaredTimesTheDropHeight)
   // own height: a point that arrives at v leaves at e v and climbs back e^2 h.
   for (double e : { 0.5, 1.0 })
   {
-    BodyDescription body;
+    Body body;
     body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(-0.05, -0.05, 0.2));
     body.material.mode = MaterialMode::Raw;
     body.material.raw.distanceStiffness = 0.0;

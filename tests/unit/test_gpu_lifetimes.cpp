@@ -40,9 +40,9 @@ void check(bool condition, const std::string& what)
   }
 }
 
-BodyDescription box(int n)
+Body box(int n)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(n, n, n, 0.02, Vec3(0.0, 0.0, 0.01));
   return body;
 }

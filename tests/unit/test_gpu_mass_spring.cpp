@@ -28,9 +28,9 @@ using test::afterThresholdStages;
 using test::kGpuRelativeTolerance;
 using Tolerance = test::GpuTolerance;
 
-BodyDescription smallBody(bool pinTop = false)
+Body smallBody(bool pinTop = false)
 {
-  BodyDescription body;
+  Body body;
   // 6 x 5 x 4 cells: 720 tets, ~1k edges; lifted so that it falls onto the floor.
   body.mesh = makeTetBox(6, 5, 4, 0.02, Vec3(0.0, 0.0, 0.01));
   if (pinTop)
@@ -62,9 +62,9 @@ SceneSettings busyScene(Integrator integrator)
 /// The hanging scene: top face pinned, no floor, raw constants with volume damping (the
 /// physical material cannot switch volume damping off alone), strain limit acting on the
 /// stretched top layer (without it the springs reach 1.018 by 0.1 s).
-BodyDescription hangingBody()
+Body hangingBody()
 {
-  BodyDescription body = smallBody(/*pinTop=*/true);
+  Body body = smallBody(/*pinTop=*/true);
   body.material.mode = MaterialMode::Raw;
   body.material.raw = { 0.2, 2e-5, 0.4, 8e-5, 1.0 }; // k_D, k_D,d, k_V, k_V,d [J, J s], mass [kg]
   return body;
@@ -79,7 +79,7 @@ SceneSettings hangingScene(Integrator integrator)
 }
 
 /// CPU positions after `endTime`.
-std::vector<Vec3> cpuPositions(const BodyDescription& body, const SceneSettings& scene, double endTime)
+std::vector<Vec3> cpuPositions(const Body& body, const SceneSettings& scene, double endTime)
 {
   MassSpringSimulation simulation(body, scene);
   simulation.advance(endTime);
@@ -94,7 +94,7 @@ class GpuAgainstCpu : public ::testing::TestWithParam<Integrator>
 
 TEST_P(GpuAgainstCpu, SameStatesAfterManyStepsWithEveryStage)
 {
-  const BodyDescription body = smallBody();
+  const Body body = smallBody();
   const SceneSettings scene = busyScene(GetParam());
   MAKE_GPU_OR_SKIP(gpuSimulation, body, scene);
   MassSpringSimulation cpuSimulation(body, scene);
@@ -165,7 +165,7 @@ TEST(MassSpring, SameStatesAsTheCpuWhenHangingFromPinsWithTheLimiterActing)
   // smaller steps with these low damping ratios, and are compared in the falling scene.
   for (Integrator integrator : { Integrator::Verlet, Integrator::EulerCromer })
   {
-    const BodyDescription body = hangingBody();
+    const Body body = hangingBody();
     const SceneSettings scene = hangingScene(integrator);
     MAKE_GPU_OR_SKIP(gpuSimulation, body, scene);
     MassSpringSimulation cpuSimulation(body, scene);
@@ -190,7 +190,7 @@ TEST(MassSpring, SameStatesAsTheCpuWhenHangingFromPinsWithTheLimiterActing)
 
     // Each stage acts, by far more than the tolerance (measured: the limiter moves points by
     // 0.4-0.5 mm, volume damping by 0.04-0.05 mm; without pins the body falls 49 mm).
-    BodyDescription free = body;
+    Body free = body;
     free.pinned.clear();
     EXPECT_GT(test::maxDistance(cpuPositions(free, scene, endTime), cpuSimulation.positions()), 0.03);
     SceneSettings noLimit = scene;
@@ -200,7 +200,7 @@ TEST(MassSpring, SameStatesAsTheCpuWhenHangingFromPinsWithTheLimiterActing)
     EXPECT_GT(maxStretchRatio(unlimited.topology(), unlimited.elementConstants(), unlimited.positions()),
       scene.strainLimit * 1.005);
     EXPECT_GT(test::maxDistance(unlimited.positions(), cpuSimulation.positions()), 1e-4);
-    BodyDescription noVolumeDamping = body;
+    Body noVolumeDamping = body;
     noVolumeDamping.material.raw.volumeDamping = 0.0;
     EXPECT_GT(test::maxDistance(cpuPositions(noVolumeDamping, scene, endTime), cpuSimulation.positions()), 1e-5);
   }
@@ -211,7 +211,7 @@ TEST(MassSpring, VerletAcrossStepSizeChangesAsOnTheCpu)
   // Free fall (floor off) with intervals that change the step: 1 ms, 0.9875 ms, 0.8333 ms,
   // 1 ms. Leapfrog with the mean of the previous and current step is exact in free fall; the
   // GPU kicks the first step of each batch by that mean too.
-  BodyDescription body = smallBody();
+  Body body = smallBody();
   body.material.physical.youngsModulus = 1e3; // 1 ms is then a stable step (5 ms is the limit)
   SceneSettings scene;
   scene.integrator = Integrator::Verlet;
@@ -244,7 +244,7 @@ INSTANTIATE_TEST_SUITE_P(AllIntegrators, GpuAgainstCpu,
 
 TEST(MassSpring, TwoRunsAreBitwiseEqual)
 {
-  const BodyDescription body = smallBody();
+  const Body body = smallBody();
   const SceneSettings scene = busyScene(Integrator::Midpoint);
   MAKE_GPU_OR_SKIP(first, body, scene);
   MAKE_GPU_OR_SKIP(second, body, scene);
@@ -256,7 +256,7 @@ TEST(MassSpring, TwoRunsAreBitwiseEqual)
 
 TEST(MassSpring, DownloadingBetweenFramesChangesNothing)
 {
-  const BodyDescription body = smallBody();
+  const Body body = smallBody();
   const SceneSettings scene = busyScene(Integrator::Verlet);
   MAKE_GPU_OR_SKIP(framed, body, scene);
   MAKE_GPU_OR_SKIP(straight, body, scene);
@@ -272,7 +272,7 @@ TEST(MassSpring, DownloadingBetweenFramesChangesNothing)
 
 TEST(MassSpring, ResumingFromASnapshotReproducesTheRunExactly)
 {
-  const BodyDescription body = smallBody();
+  const Body body = smallBody();
   const SceneSettings scene = busyScene(Integrator::EulerCromer);
   MAKE_GPU_OR_SKIP(simulation, body, scene);
   simulation->advance(0.02);
@@ -295,7 +295,7 @@ TEST(MassSpring, ResumingFromASnapshotReproducesTheRunExactly)
 
 TEST(MassSpring, PinnedPointsNeverMove)
 {
-  const BodyDescription body = smallBody(/*pinTop=*/true);
+  const Body body = smallBody(/*pinTop=*/true);
   SceneSettings scene = busyScene(Integrator::EulerCromer);
   scene.floorEnabled = false;
   MAKE_GPU_OR_SKIP(simulation, body, scene);
@@ -315,7 +315,7 @@ TEST(MassSpring, PinnedPointsNeverMove)
 
 TEST(MassSpring, PlanNamesTheSameStagesAsTheCpu)
 {
-  const BodyDescription body = smallBody();
+  const Body body = smallBody();
   const SceneSettings scene = busyScene(Integrator::Midpoint);
   MAKE_GPU_OR_SKIP(gpuSimulation, body, scene);
   MassSpringSimulation cpuSimulation(body, scene);
@@ -347,7 +347,7 @@ TEST(MassSpring, PlanNamesTheSameStagesAsTheCpu)
 
 TEST(MassSpring, BlowingUpThrowsWithTheTimeOfDivergence)
 {
-  const BodyDescription body = smallBody();
+  const Body body = smallBody();
   SceneSettings scene = busyScene(Integrator::EulerCromer);
   scene.strainLimit = 0.0;
   scene.timeStep = 2e-3; // far above the stable step
@@ -376,7 +376,7 @@ TEST(MassSpring, BlowingUpThrowsWithTheTimeOfDivergence)
 
 TEST(MassSpring, InvalidInputIsRefusedAsOnTheCpu)
 {
-  BodyDescription body = smallBody();
+  Body body = smallBody();
   body.pinned.assign(3, 1);
   std::string whyNot;
   EXPECT_THROW(gpu::tryCreateGpuMassSpring(body, busyScene(Integrator::Euler), whyNot),

@@ -21,9 +21,9 @@ namespace
 
 /// 6 x 5 x 4 cells of 2 cm (720 tets) lifted 1 cm, falling onto the floor: E = 1e5 Pa,
 /// nu = 0.3 (below the network's 0.25 floor, so this is the continuum's own Poisson ratio).
-BodyDescription neoHookeanBody(MaterialModel model = MaterialModel::StableNeoHookean)
+Body neoHookeanBody(MaterialModel model = MaterialModel::StableNeoHookean)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(6, 5, 4, 0.02, Vec3(0.0, 0.0, 0.01));
   body.material.model = model;
   body.material.physical.poissonRatio = 0.3;
@@ -49,7 +49,7 @@ class GpuTetElasticity : public ::testing::TestWithParam<Integrator>
 
 TEST_P(GpuTetElasticity, SameStatesAsTheCpuThroughTheLanding)
 {
-  const BodyDescription body = neoHookeanBody();
+  const Body body = neoHookeanBody();
   const SceneSettings scene = landingScene(GetParam());
   MAKE_GPU_OR_SKIP(gpu, body, scene);
   MassSpringSimulation cpu(body, scene);
@@ -89,7 +89,7 @@ TEST_P(GpuTetElasticity, SameStatesAsTheCpuThroughTheLanding)
     return; // the checks below are of the scene, not of the integrator
   }
   // Damping acts in what is compared: the undamped landing ends elsewhere.
-  BodyDescription undamped = body;
+  Body undamped = body;
   undamped.material.physical.dampingTime = 0.0;
   MassSpringSimulation bouncy(undamped, scene);
   bouncy.advance(0.06);

@@ -40,9 +40,9 @@ bool allFinite(const MassSpringSimulation& sim)
 }
 
 /// A bar of nx x 2 x 2 cells along x, its x = 0 face pinned.
-BodyDescription cantilever(int nx, double cell, const PhysicalMaterial& material)
+Body cantilever(int nx, double cell, const PhysicalMaterial& material)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(nx, 2, 2, cell, Vec3(0, 0, 1));
   body.material.physical = material;
   body.pinned.assign(body.mesh.points.size(), 0);
@@ -120,7 +120,7 @@ TEST(ImplicitIntegrators, LinearSpringStepEqualsTheClosedFormBackwardEulerUpdate
 // clamped (Poisson's ratio 0.25: springs only, no Gauss-Newton volume term).
 TEST(ImplicitIntegrators, NewtonConvergesQuadraticallyNearTheSolution)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(4, 4, 4, 0.05);
   body.material.physical.poissonRatio = 0.25;
   body.pinned.assign(body.mesh.points.size(), 0);
@@ -172,7 +172,7 @@ TEST(ImplicitIntegrators, EnergyNeverGrowsWithoutInput)
   {
     for (Integrator integrator : kImplicit)
     {
-      BodyDescription body;
+      Body body;
       body.mesh = makeTetBox(3, 3, 3, 0.05);
       body.material.physical.dampingTime = dampingTime;
       SceneSettings scene;
@@ -232,7 +232,7 @@ TEST(ImplicitIntegrators, SteelCantileverRunsAtFrameRateSteps)
     steel.youngsModulus = c.youngsModulus;
     steel.poissonRatio = 0.3;
     steel.density = 7850.0;
-    const BodyDescription body = cantilever(10, cell, steel);
+    const Body body = cantilever(10, cell, steel);
     // Euler-Bernoulli tip sag under self-weight q L^4 / (8 E I), q = rho g A, I = side^4 / 12.
     const double sag = 1.5 * steel.density * 9.81 * std::pow(length, 4) /
       (steel.youngsModulus * side * side);
@@ -280,7 +280,7 @@ TEST(ImplicitIntegrators, SliverMeshRunsAtFrameRateSteps)
   {
     GTEST_SKIP() << "shared data not found (" << file << "): skipping the sliver mesh";
   }
-  BodyDescription body;
+  Body body;
   body.mesh = readGmshMesh(file.string());
   double lowest = 1e300, highest = -1e300;
   for (const Vec3& p : body.mesh.points)
@@ -332,7 +332,7 @@ TEST(ImplicitIntegrators, HangingBarSettlesToTheStaticElongation)
   const double cell = 0.02;
   const int cells = 10;
   const double length = cells * cell;
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(2, 2, cells, cell, Vec3(0, 0, 1));
   body.pinned.assign(body.mesh.points.size(), 0);
   std::vector<std::size_t> bottom;
@@ -384,7 +384,7 @@ TEST(ImplicitIntegrators, HangingBarSettlesToTheStaticElongation)
 // Projective Dynamics' iterations converge to the backward-Euler solution Newton finds.
 TEST(ImplicitIntegrators, ProjectiveDynamicsConvergesToImplicitEulerAsIterationsGrow)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(3, 3, 3, 0.05);
   DynamicState start;
   start.positions = test::jitter(body.mesh.points, 0.005);
@@ -435,7 +435,7 @@ TEST(ImplicitIntegrators, ResultsDoNotDependOnTheThreadCount)
     for (std::size_t threads : { 1u, 2u })
     {
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-      BodyDescription body;
+      Body body;
       body.mesh = makeTetBox(6, 5, 4, 0.03, Vec3(0, 0, 0.05));
       SceneSettings scene;
       scene.integrator = integrator;
@@ -468,7 +468,7 @@ TEST(ImplicitIntegrators, FloorFrictionGivesCoulombOnATiltedFloor)
   for (Integrator integrator : kImplicit)
   {
     auto run = [&](double mu, double t1, double t2, double& acceleration, double& travel) {
-      BodyDescription body;
+      Body body;
       body.mesh = makeTetBox(3, 3, 3, 0.04, Vec3(-0.06, -0.06, 0.002));
       for (Vec3& p : body.mesh.points)
       {
@@ -533,7 +533,7 @@ TEST(ImplicitIntegrators, CollisionsOffLeaveTheFloorOut)
   {
     for (CollisionMode mode : { CollisionMode::Obstacles, CollisionMode::Off })
     {
-      BodyDescription body;
+      Body body;
       body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 0.01));
       SceneSettings scene;
       scene.integrator = integrator;
@@ -561,7 +561,7 @@ TEST(ImplicitIntegrators, CollisionsOffLeaveTheFloorOut)
 
 TEST(ImplicitIntegrators, OutOfRangeSettingsAreRefusedQuotingTheValue)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(1, 1, 1, 0.1);
   SceneSettings scene;
   scene.integrator = Integrator::ImplicitEuler;
@@ -602,7 +602,7 @@ TEST(ImplicitIntegrators, ABodyLandingWithFrictionAtLongStepsKeepsItsTetsRightSi
   const Vec3 normal(std::sin(angle), 0.0, std::cos(angle));
   for (Integrator integrator : kImplicit)
   {
-    BodyDescription body;
+    Body body;
     body.mesh = test::tetTorus(1e-4);
     double lowest = 1e300;
     for (const Vec3& p : body.mesh.points)

@@ -55,7 +55,7 @@ double oscillatorError(Integrator integrator, double h, double endTime)
 /// A well-shaped body falling freely, floor off: every point follows x0 + g t^2 / 2.
 double freeFallError(Integrator integrator, double h, double endTime)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 1));
   SceneSettings scene;
   scene.integrator = integrator;
@@ -179,7 +179,7 @@ TEST(Integrators, VerletIsExactInFreeFallAcrossStepSizeChanges)
   // it integrates a constant acceleration exactly whatever the steps. advance() splits each
   // interval into equal steps, so these intervals change the step: 1 ms, then 0.9875 ms (24
   // steps over 23.7 ms), then 0.8333 ms (3 steps over 2.5 ms), then 1 ms again.
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 1));
   SceneSettings scene;
   scene.integrator = Integrator::Verlet;

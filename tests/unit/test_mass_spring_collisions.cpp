@@ -34,9 +34,9 @@ ObstacleSurface floorSquare(double height, double half = 2.0)
   return s;
 }
 
-BodyDescription box(int n, double cell, const Vec3& origin)
+Body box(int n, double cell, const Vec3& origin)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(n, n, n, cell, origin);
   return body;
 }
@@ -104,7 +104,7 @@ TEST(MassSpringCollisions, RestitutionGivesAReboundOfESquaredTimesTheDropHeight)
     SceneSettings scene = obstacleScene(margin);
     scene.collisions.restitution = e;
     scene.timeStep = 1.0e-4;
-    BodyDescription body = box(2, 0.05, Vec3(-0.05, -0.05, 0.2));
+    Body body = box(2, 0.05, Vec3(-0.05, -0.05, 0.2));
     body.material.mode = MaterialMode::Raw;
     body.material.raw.distanceStiffness = 0.0;
     body.material.raw.distanceDamping = 0.0;
@@ -149,7 +149,7 @@ TEST(MassSpringCollisions, OnAnInclineABodySlidesAtGTimesSinMinusMuCosOrSticks)
     SceneSettings scene = obstacleScene(margin);
     scene.collisions.staticFriction = mu;
     scene.collisions.dynamicFriction = mu;
-    BodyDescription body = box(3, 0.04, Vec3(-0.06, -0.06, margin));
+    Body body = box(3, 0.04, Vec3(-0.06, -0.06, margin));
     for (Vec3& p : body.mesh.points)
     {
       p = tilt(p, angle);
@@ -229,9 +229,9 @@ TEST(MassSpringCollisions, TwoBodiesDroppedOntoEachOtherNeverInterpenetrateBeyon
   auto run = [&](CollisionMode mode) {
     // A soft box resting on the floor obstacle and a second one dropped onto it, offset so
     // that edges and corners meet faces.
-    BodyDescription lower = box(3, 0.04, Vec3(-0.06, -0.06, margin));
-    BodyDescription upper = box(3, 0.04, Vec3(-0.03, -0.04, 0.25));
-    BodyDescription both = lower;
+    Body lower = box(3, 0.04, Vec3(-0.06, -0.06, margin));
+    Body upper = box(3, 0.04, Vec3(-0.03, -0.04, 0.25));
+    Body both = lower;
     const auto offset = static_cast<std::int32_t>(lower.mesh.points.size());
     both.mesh.points.insert(both.mesh.points.end(), upper.mesh.points.begin(), upper.mesh.points.end());
     for (Tet t : upper.mesh.tets)
@@ -271,7 +271,7 @@ TEST(MassSpringCollisions, AMovingObstaclePushesABody)
   const double margin = 0.002;
   const double speed = 0.5;
   SceneSettings scene = obstacleScene(margin);
-  BodyDescription body = box(3, 0.04, Vec3(0.05, -0.06, margin));
+  Body body = box(3, 0.04, Vec3(0.05, -0.06, margin));
   MassSpringSimulation sim(body, scene);
   ObstacleSurface wall;
   wall.triangles = { { 0, 1, 2 }, { 0, 2, 3 } };
@@ -327,7 +327,7 @@ TEST(MassSpringCollisions, OneAndTwoThreadsGiveBitIdenticalStates)
   // against faces and of edges against edges.
   auto run = [](std::size_t threads, Integrator integrator) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    BodyDescription body = box(6, 0.02, Vec3(-0.06, -0.05, 0.02)); // > one grain of each loop
+    Body body = box(6, 0.02, Vec3(-0.06, -0.05, 0.02)); // > one grain of each loop
     SceneSettings scene = obstacleScene(0.0);
     scene.integrator = integrator;
     scene.timeStep = integrator == Integrator::ImplicitEuler ? 0.01 : 0.0;
@@ -372,7 +372,7 @@ TEST(MassSpringCollisions, ImplicitIntegratorsHoldAnObstacleInTheirSolveAsTheyHo
         scene.floor.origin = Vec3::Zero();
         scene.floor.normal = tilt(Vec3::UnitZ(), angle);
       }
-      BodyDescription body = box(3, 0.05, Vec3(-0.075, -0.075, 0.15));
+      Body body = box(3, 0.05, Vec3(-0.075, -0.075, 0.15));
       MassSpringSimulation sim(body, scene);
       ObstacleSurface plane = floorSquare(0.0, 5.0);
       for (Vec3& v : plane.vertices)
@@ -422,9 +422,9 @@ TEST(MassSpringCollisions, ImplicitIntegratorsLandABodyOnABodyWithoutCrushingEit
   const test::TorusPair pair = test::torusPair(-0.001, 1e-4);
   for (Integrator integrator : { Integrator::ImplicitEuler, Integrator::ProjectiveDynamics })
   {
-    BodyDescription body;
-    body.mesh.points = pair.body.points;
-    body.mesh.tets = pair.body.tets;
+    Body body;
+    body.mesh.points = pair.body.mesh.points;
+    body.mesh.tets = pair.body.mesh.tets;
     SceneSettings scene;
     scene.integrator = integrator;
     scene.timeStep = 1.0 / 60.0;
@@ -454,7 +454,7 @@ TEST(MassSpringCollisions, ALandingTooFastForTheImplicitStepIsWarnedOfBeforeTheR
   // its bottom layer; the warning quotes the numbers and the step that avoids it. At 1/500 s
   // (6 mm per step) there is nothing to say; with an initial velocity upward too little to lift
   // it away from the floor, it still lands faster.
-  BodyDescription body = box(5, 0.02, Vec3(-0.05, -0.05, 0.5));
+  Body body = box(5, 0.02, Vec3(-0.05, -0.05, 0.5));
   auto warning = [&](Integrator integrator, double step, const Vec3& velocity) {
     SceneSettings scene;
     scene.integrator = integrator;

@@ -205,14 +205,20 @@ TEST(MeshQuality, InverseMassesAndStableStepsMatchTheSimulation)
 
     SceneSettings scene;
     scene.integrator = Integrator::Midpoint;
-    const MassSpringSimulation plain(BodyDescription{ mesh, {}, material, {} }, scene);
+    const auto bodyOf = [&mesh](const MaterialSettings& made) {
+      Body body;
+      body.mesh = mesh;
+      body.material = made;
+      return body;
+    };
+    const MassSpringSimulation plain(bodyOf(material), scene);
     EXPECT_EQ(r.inverseMass, plain.inverseMasses());
     EXPECT_DOUBLE_EQ(r.stableTimeStep, plain.estimatedStableStep());
     EXPECT_DOUBLE_EQ(r.totalMass, plain.totalMass());
 
     // The suggested truncation, applied in the simulation, gives the step the report predicts.
     material.maxInverseMass = r.suggestedMaxInverseMass;
-    const MassSpringSimulation truncated(BodyDescription{ mesh, {}, material, {} }, scene);
+    const MassSpringSimulation truncated(bodyOf(material), scene);
     EXPECT_DOUBLE_EQ(r.truncatedStableTimeStep, truncated.estimatedStableStep());
     EXPECT_DOUBLE_EQ(r.truncatedTotalMass, truncated.totalMass());
   }

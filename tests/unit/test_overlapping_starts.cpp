@@ -32,24 +32,24 @@ PbdSettings overlapSettings()
   return s;
 }
 
-void appendMesh(PbdBody& body, const TetMesh& mesh)
+void appendMesh(Body& body, const TetMesh& mesh)
 {
-  const auto offset = static_cast<std::int32_t>(body.points.size());
-  body.points.insert(body.points.end(), mesh.points.begin(), mesh.points.end());
+  const auto offset = static_cast<std::int32_t>(body.mesh.points.size());
+  body.mesh.points.insert(body.mesh.points.end(), mesh.points.begin(), mesh.points.end());
   for (Tet t : mesh.tets)
   {
     for (std::int32_t& v : t)
       v += offset;
-    body.tets.push_back(t);
+    body.mesh.tets.push_back(t);
   }
 }
 
 /// A 0.1 m tet cube (1 cm cells) and a 5 cm one standing 2.5 cm deep in its top, 2.5 cm from
 /// its sides: 108 points of the small one lie inside the big one, 75 of the big one inside the
 /// small one, the deepest of either 0.025 m below the other's surface (by construction).
-PbdBody nestedBoxes(double depth)
+Body nestedBoxes(double depth)
 {
-  PbdBody body;
+  Body body;
   appendMesh(body, makeTetBox(10, 10, 10, 0.01, Vec3(0.0, 0.0, 0.0)));
   appendMesh(body, makeTetBox(5, 5, 5, 0.01, Vec3(0.025, 0.025, 0.1 - depth)));
   return body;
@@ -61,7 +61,7 @@ std::size_t upperPointsInsideLower(const PbdSimulation& sim, const test::TorusPa
   g.rest = sim.restPositions();
   g.bodyOf.assign(g.rest.size(), 0);
   std::fill(g.bodyOf.begin() + static_cast<std::ptrdiff_t>(pair.lowerPoints), g.bodyOf.end(), 1);
-  std::vector<Tet> lower(pair.body.tets.begin(), pair.body.tets.begin() + static_cast<std::ptrdiff_t>(pair.body.tets.size() / 2));
+  std::vector<Tet> lower(pair.body.mesh.tets.begin(), pair.body.mesh.tets.begin() + static_cast<std::ptrdiff_t>(pair.body.mesh.tets.size() / 2));
   g.surfaceTriangles = boundaryTriangles(lower);
   for (std::size_t i = pair.lowerPoints; i < g.rest.size(); ++i)
     g.collidingPoints.push_back(static_cast<std::int32_t>(i));
@@ -191,8 +191,8 @@ TEST(OverlappingStarts, MassSpringToriStartedInsideEachOtherStepWithBoundedConta
 {
   // The same detector serves mass-spring: the same bounds per point, and no burst.
   const test::TorusPair pair = test::torusPair(0.25);
-  BodyDescription body;
-  body.mesh = TetMesh{ pair.body.points, pair.body.tets };
+  Body body;
+  body.mesh = TetMesh{ pair.body.mesh.points, pair.body.mesh.tets };
   SceneSettings scene;
   scene.floorEnabled = true;
   scene.collisions.mode = CollisionMode::ObstaclesAndBodies;
@@ -229,7 +229,7 @@ TEST(OverlappingStarts, ABodyStartedAcrossAnObstacleIsWarnedOfAndPulledAcrossItW
   quad.vertices = { centre - u - v, centre + u - v, centre + u + v, centre - u + v };
   quad.triangles = { { 0, 1, 2 }, { 0, 2, 3 } };
   auto placed = [&](double lowestAboveRamp) {
-    BodyDescription body;
+    Body body;
     body.mesh = test::tetTorus(1e-4);
     double lowest = 1e300;
     for (const Vec3& p : body.mesh.points)
@@ -242,7 +242,7 @@ TEST(OverlappingStarts, ABodyStartedAcrossAnObstacleIsWarnedOfAndPulledAcrossItW
     }
     return body;
   };
-  auto simulation = [&](const BodyDescription& body) {
+  auto simulation = [&](const Body& body) {
     SceneSettings scene;
     scene.integrator = Integrator::ImplicitEuler;
     scene.timeStep = 1.0 / 30.0;

@@ -45,11 +45,11 @@ struct TwoMaterialBar
     return m;
   }
 
-  PbdBody pbdBody(const MaterialSettings& m) const
+  Body pbdBody(const MaterialSettings& m) const
   {
-    PbdBody body;
-    body.points = mesh.points;
-    body.tets = mesh.tets;
+    Body body;
+    body.mesh.points = mesh.points;
+    body.mesh.tets = mesh.tets;
     body.pinned = top;
     body.material = m;
     return body;
@@ -57,7 +57,7 @@ struct TwoMaterialBar
 
   double staticDrop(const MaterialSettings& m) const
   {
-    BodyDescription body;
+    Body body;
     body.mesh = mesh;
     body.pinned = top;
     body.material = m;
@@ -83,7 +83,7 @@ struct TwoMaterialBar
   }
 };
 
-std::string refusal(const PbdBody& body, const PbdSettings& settings)
+std::string refusal(const Body& body, const PbdSettings& settings)
 {
   return test::refusalOf<PbdSimulation>(body, settings);
 }
@@ -118,13 +118,13 @@ TEST(PbdCellMaterials, PerCellDensityGivesEachParticleTheMassMassSpringGivesIt)
   {
     material.cells.density.push_back(t % 3 == 0 ? 3000.0 : 500.0);
   }
-  BodyDescription massSpringBody;
+  Body massSpringBody;
   massSpringBody.mesh = bar.mesh;
   massSpringBody.material = material;
   const MassSpringSimulation massSpring(massSpringBody, SceneSettings{});
   PbdSettings pbd;
   pbd.formulation = PbdFormulation::Pbd;
-  PbdBody body = bar.pbdBody(material);
+  Body body = bar.pbdBody(material);
   body.pinned.clear();
   const PbdSimulation particles(body, pbd);
   double total = 0.0;
@@ -141,7 +141,7 @@ TEST(PbdCellMaterials, ValuesTheFormulationWouldNotReadAreRefused)
 {
   const TwoMaterialBar bar;
   PbdSettings compliances; // XPBD with its constraint types' compliances: E is not read
-  const PbdBody perCell = bar.pbdBody(bar.material(MaterialModel::SpringNetwork, true));
+  const Body perCell = bar.pbdBody(bar.material(MaterialModel::SpringNetwork, true));
   EXPECT_NE(refusal(perCell, compliances).find("would be ignored"), std::string::npos)
     << refusal(perCell, compliances);
   PbdSettings fromMaterial;
@@ -149,15 +149,15 @@ TEST(PbdCellMaterials, ValuesTheFormulationWouldNotReadAreRefused)
   EXPECT_EQ(refusal(perCell, fromMaterial), "");
 
   // Point masses and per-cell densities contradict each other.
-  PbdBody massive = bar.pbdBody(bar.material(MaterialModel::SpringNetwork, false));
-  massive.pointMass.assign(massive.points.size(), 0.1);
-  massive.material.cells.density.assign(massive.tets.size(), 1000.0);
+  Body massive = bar.pbdBody(bar.material(MaterialModel::SpringNetwork, false));
+  massive.pointMass.assign(massive.mesh.points.size(), 0.1);
+  massive.material.cells.density.assign(massive.mesh.tets.size(), 1000.0);
   EXPECT_NE(refusal(massive, fromMaterial).find("both point masses"), std::string::npos)
     << refusal(massive, fromMaterial);
 
   // A per-cell Poisson's ratio Corotated cannot take under XPBD names its cell.
-  PbdBody corotated = bar.pbdBody(bar.material(MaterialModel::Corotated, false));
-  corotated.material.cells.poissonRatio.assign(corotated.tets.size(), 0.3);
+  Body corotated = bar.pbdBody(bar.material(MaterialModel::Corotated, false));
+  corotated.material.cells.poissonRatio.assign(corotated.mesh.tets.size(), 0.3);
   corotated.material.cells.poissonRatio[11] = -0.25;
   EXPECT_NE(refusal(corotated, fromMaterial).find("PoissonRatio -0.25 (cell 11) gives Corotated's"),
     std::string::npos) << refusal(corotated, fromMaterial);

@@ -57,8 +57,8 @@ double slideOnIncline(double thetaDegrees, double mu, double T)
   R << c, 0, s, 0, 1, 0, -s, 0, c;
   PbdSettings settings = contactSettings();
   settings.collisions.staticFriction = settings.collisions.dynamicFriction = mu;
-  PbdBody body = test::pbdBoxBody(2, 0.05, Vec3(-0.05, -0.05, settings.collisions.margin));
-  for (Vec3& p : body.points)
+  Body body = test::pbdBoxBody(2, 0.05, Vec3(-0.05, -0.05, settings.collisions.margin));
+  for (Vec3& p : body.mesh.points)
   {
     p = R * p;
   }
@@ -87,7 +87,7 @@ TEST(PbdCollisions, BlockOnAnInclinedObstacleFollowsCoulomb)
 
 /// Rebound of the centre of mass above where the body rests after falling h onto a horizontal
 /// quad obstacle (not the floor: the obstacle path).
-double reboundOnObstacle(PbdBody body, PbdSettings settings, double restitution, double h)
+double reboundOnObstacle(Body body, PbdSettings settings, double restitution, double h)
 {
   settings.collisions.restitution = restitution;
   PbdSimulation sim(std::move(body), settings);
@@ -120,10 +120,10 @@ TEST(PbdCollisions, RestitutionGivesAReboundOfESquaredHForParticleAndTetBodies)
   PbdSettings particles = contactSettings();
   particles.particleRadius = 0.025;
   const double rest = particles.particleRadius + particles.collisions.margin;
-  const PbdBody lattice = test::particleBlock(3, 0.05, Vec3(-0.05, -0.05, rest + h));
+  const Body lattice = test::particleBlock(3, 0.05, Vec3(-0.05, -0.05, rest + h));
   // A tet body: a 0.1 m cube, its bottom h above the margin.
   PbdSettings tets = contactSettings();
-  const PbdBody cube = test::pbdBoxBody(2, 0.05, Vec3(-0.05, -0.05, tets.collisions.margin + h));
+  const Body cube = test::pbdBoxBody(2, 0.05, Vec3(-0.05, -0.05, tets.collisions.margin + h));
   for (const auto& [name, body, settings] :
     { std::tuple{ "particles", lattice, particles }, std::tuple{ "tets", cube, tets } })
   {
@@ -144,15 +144,15 @@ TEST(PbdCollisions, BodiesDroppedOntoEachOtherNeverInterpenetrate)
   settings.particleRadius = 0.02;
   settings.collisions.mode = CollisionMode::ObstaclesAndBodies;
   const double margin = settings.collisions.margin;
-  PbdBody scene = test::pbdBoxBody(3, 0.1, Vec3(-0.15, -0.15, margin)); // top at 0.3 + margin
-  const std::size_t cubeEnd = scene.points.size();
-  PbdBody small = test::pbdBoxBody(2, 0.05, Vec3(-0.1, -0.05, 0.45));
-  PbdBody block = test::particleBlock(3, 0.04, Vec3(0.04, -0.04, 0.5), 0.5);
+  Body scene = test::pbdBoxBody(3, 0.1, Vec3(-0.15, -0.15, margin)); // top at 0.3 + margin
+  const std::size_t cubeEnd = scene.mesh.points.size();
+  Body small = test::pbdBoxBody(2, 0.05, Vec3(-0.1, -0.05, 0.45));
+  Body block = test::particleBlock(3, 0.04, Vec3(0.04, -0.04, 0.5), 0.5);
   // Masses for the tet parts (the particle block brings its own).
-  scene.pointMass.assign(scene.points.size(), 27.0 / double(scene.points.size()));
-  small.pointMass.assign(small.points.size(), 0.125 / double(small.points.size()));
+  scene.pointMass.assign(scene.mesh.points.size(), 27.0 / double(scene.mesh.points.size()));
+  small.pointMass.assign(small.mesh.points.size(), 0.125 / double(small.mesh.points.size()));
   test::appendBody(scene, small);
-  const std::size_t smallEnd = scene.points.size();
+  const std::size_t smallEnd = scene.mesh.points.size();
   test::appendBody(scene, block);
   PbdSimulation sim(scene, settings);
   const double cubeTop = 0.3 + margin;
@@ -255,7 +255,7 @@ TEST(PbdCollisions, ClothFallingOnASphereNeitherCrossesItNorItself)
   spec.point1 = Vec3(0.5, -0.5, 0.45);
   spec.point2 = Vec3(-0.5, 0.5, 0.45);
   spec.diagonalStiffness = 0.2;
-  const PbdBody cloth = makeCloth(spec);
+  const Body cloth = makeCloth(spec);
   PbdSettings settings = contactSettings(0.01);
   settings.collisions.mode = CollisionMode::ObstaclesBodiesAndSelf;
   settings.collisions.staticFriction = settings.collisions.dynamicFriction = 0.3;
@@ -316,9 +316,9 @@ TEST(PbdCollisions, BarFoldedOntoItselfDoesNotCrossItself)
     const double width = 0.08 - 0.06 * std::clamp((s - arm) / (M_PI * R), 0.0, 1.0);
     p = c + t * n + Vec3(0, (y / 0.04 - 0.5) * width, 0) + Vec3(0, 0, R + T / 2 + 0.002);
   }
-  PbdBody bar;
-  bar.points = mesh.points;
-  bar.tets = mesh.tets;
+  Body bar;
+  bar.mesh.points = mesh.points;
+  bar.mesh.tets = mesh.tets;
   bar.material.physical.youngsModulus = 2e5;
   PbdSettings settings = contactSettings(0.002);
   settings.formulation = PbdFormulation::Xpbd;
@@ -342,13 +342,13 @@ TEST(PbdCollisions, BarFoldedOntoItselfDoesNotCrossItself)
   // The outer half of the upper arm came down 8 cm onto the lower arm and rests on it.
   const double centre = R + T / 2 + 0.002;
   double upperBottom = 1.0, lowerTop = -1.0;
-  for (std::size_t i = 0; i < bar.points.size(); ++i)
+  for (std::size_t i = 0; i < bar.mesh.points.size(); ++i)
   {
-    if (bar.points[i].x() > 0.1)
+    if (bar.mesh.points[i].x() > 0.1)
     {
       const double z = sim.positions()[i].z();
-      (bar.points[i].z() > centre ? upperBottom : lowerTop) =
-        bar.points[i].z() > centre ? std::min(upperBottom, z) : std::max(lowerTop, z);
+      (bar.mesh.points[i].z() > centre ? upperBottom : lowerTop) =
+        bar.mesh.points[i].z() > centre ? std::min(upperBottom, z) : std::max(lowerTop, z);
     }
   }
   std::printf("self contacts %zu, crossings %zu, gap between the arms %.4f m (at rest %.3f m)\n",
@@ -369,9 +369,9 @@ std::vector<Vec3> stackedRun(int threads)
   settings.collisions.staticFriction = settings.collisions.dynamicFriction = 0.4;
   settings.collisions.restitution = 0.3;
   settings.solver = PbdSolver::ParallelGaussSeidel;
-  PbdBody scene = test::pbdBoxBody(3, 0.1, Vec3(-0.15, -0.15, 0.05));
-  scene.pointMass.assign(scene.points.size(), 0.5);
-  PbdBody block = test::particleBlock(4, 0.04, Vec3(-0.02, -0.05, 0.45), 0.5);
+  Body scene = test::pbdBoxBody(3, 0.1, Vec3(-0.15, -0.15, 0.05));
+  scene.pointMass.assign(scene.mesh.points.size(), 0.5);
+  Body block = test::particleBlock(4, 0.04, Vec3(-0.02, -0.05, 0.45), 0.5);
   test::appendBody(scene, block);
   auto sim = makePbdSimulation(scene, settings);
   sim->setObstacles({ test::sphereObstacle(Vec3(0.3, 0, 0.1), 0.1) }, 0.0);

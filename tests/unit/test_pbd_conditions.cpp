@@ -31,11 +31,11 @@ TEST(PbdConditions, PrescribedPointsFollowTheirKeyframesExactly)
 {
   for (PbdFormulation formulation : kBoth)
   {
-    PbdBody body = test::pbdBoxBody(3, 0.1);
+    Body body = test::pbdBoxBody(3, 0.1);
     Condition drive;
     drive.name = "drive";
     drive.kind = ConditionKind::Prescribed;
-    drive.points = test::indicesWhere(body.points, [](const Vec3& p) { return p.z() < 1e-9; });
+    drive.points = test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.z() < 1e-9; });
     drive.translation = Vec3(0.05, -0.02, 0.01);
     drive.rotationCenter = Vec3(0.15, 0.15, 0.0);
     drive.rotationAngle = 0.3;
@@ -43,7 +43,7 @@ TEST(PbdConditions, PrescribedPointsFollowTheirKeyframesExactly)
     drive.profile.times = { 0.0, 0.1, 0.25 };
     drive.profile.factors = { 0.0, 1.0, 0.4 };
     body.conditions.push_back(drive);
-    const std::vector<Vec3> rest = body.points;
+    const std::vector<Vec3> rest = body.mesh.points;
     PbdSimulation sim(body, settingsOf(formulation, Vec3(0, 0, -9.81)));
     for (double t : { 0.05, 0.1, 0.2, 0.3 })
     {
@@ -66,13 +66,13 @@ TEST(PbdConditions, RollerHoldsOnlyItsComponent)
 {
   for (PbdFormulation formulation : kBoth)
   {
-    PbdBody body = test::pbdBoxBody(2, 0.1);
+    Body body = test::pbdBoxBody(2, 0.1);
     Condition roller;
     roller.name = "roller";
-    roller.points = test::indicesWhere(body.points, [](const Vec3&) { return true; });
+    roller.points = test::indicesWhere(body.mesh.points, [](const Vec3&) { return true; });
     roller.heldAxes = { false, false, true };
     body.conditions.push_back(roller);
-    const std::vector<Vec3> rest = body.points;
+    const std::vector<Vec3> rest = body.mesh.points;
     PbdSimulation sim(body, settingsOf(formulation, Vec3(-2.0, 0.0, -9.81)));
     sim.advance(0.5);
     double zMoved = 0.0, xDrop = 0.0;
@@ -90,12 +90,12 @@ TEST(PbdConditions, ForceMovesTheCentreOfMassAtFOverM)
 {
   for (PbdFormulation formulation : kBoth)
   {
-    PbdBody body = test::pbdBoxBody(2, 0.1);
+    Body body = test::pbdBoxBody(2, 0.1);
     Condition push;
     push.name = "push";
     push.kind = ConditionKind::Force;
     push.spread = ForceSpread::PerPoint;
-    push.points = test::indicesWhere(body.points, [](const Vec3& p) { return p.x() < 1e-9; });
+    push.points = test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.x() < 1e-9; });
     const Vec3 total(3.0, 0.0, 1.0);
     push.force = total / static_cast<double>(push.points.size());
     body.conditions.push_back(push);
@@ -121,8 +121,8 @@ TEST(PbdConditions, XpbdSupportsCarryTheWeightOfABodyAtRest)
   // substep (0.2 %). PBD has no forces to report, and says so.
   for (MaterialModel model : { MaterialModel::SpringNetwork, MaterialModel::Corotated, MaterialModel::StableNeoHookean })
   {
-    PbdBody body = test::pbdBoxBody(2, 0.05);
-    for (Vec3& p : body.points)
+    Body body = test::pbdBoxBody(2, 0.05);
+    for (Vec3& p : body.mesh.points)
     {
       p.z() *= 4.0; // 2 x 2 x 2 cells stretched to a 0.1 x 0.1 x 0.4 m bar
     }
@@ -130,7 +130,7 @@ TEST(PbdConditions, XpbdSupportsCarryTheWeightOfABodyAtRest)
     body.material.model = model;
     Condition top;
     top.name = "top";
-    top.points = test::indicesWhere(body.points, [](const Vec3& p) { return p.z() > 0.4 - 1e-9; });
+    top.points = test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.z() > 0.4 - 1e-9; });
     body.conditions.push_back(top);
     PbdSettings settings = settingsOf(PbdFormulation::Xpbd, Vec3(0, 0, -9.81));
     settings.timeStep = 0.0;
@@ -157,10 +157,10 @@ TEST(PbdConditions, XpbdSupportsCarryTheWeightOfABodyAtRest)
     EXPECT_LT(std::hypot(sum.x(), sum.y()), 5e-3 * weight.z()) << materialModelName(model);
     EXPECT_NEAR(readout.totals[0].force.z(), sum.z(), 1e-9 * weight.z()) << materialModelName(model);
   }
-  PbdBody body = test::pbdBoxBody(2, 0.05);
+  Body body = test::pbdBoxBody(2, 0.05);
   Condition top;
   top.name = "top";
-  top.points = test::indicesWhere(body.points, [](const Vec3& p) { return p.z() > 0.1 - 1e-9; });
+  top.points = test::indicesWhere(body.mesh.points, [](const Vec3& p) { return p.z() > 0.1 - 1e-9; });
   body.conditions.push_back(top);
   const PbdSimulation pbd(body, settingsOf(PbdFormulation::Pbd, Vec3(0, 0, -9.81)));
   EXPECT_TRUE(pbd.conditionReadout().reactions.empty());

@@ -13,9 +13,9 @@ namespace softbody
 {
 namespace
 {
-PbdBody boxBody(int n, double cell, const Vec3& origin)
+Body boxBody(int n, double cell, const Vec3& origin)
 {
-  PbdBody body = test::pbdBoxBody(n, cell, origin);
+  Body body = test::pbdBoxBody(n, cell, origin);
   body.material.physical.youngsModulus = 1e6; // read by XPBD (floorSettings), not by PBD
   return body;
 }

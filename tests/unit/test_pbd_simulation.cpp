@@ -21,7 +21,7 @@ namespace softbody
 {
 namespace
 {
-PbdBody boxBody(int n, double cell, const Vec3& origin = Vec3::Zero())
+Body boxBody(int n, double cell, const Vec3& origin = Vec3::Zero())
 {
   return test::pbdBoxBody(n, cell, origin);
 }
@@ -165,10 +165,10 @@ TEST(PbdSimulation, FrictionCarriesTheWeightOfTheWholeBody)
   // friction takes mu g per second off every particle's speed, the upper layers' weight
   // included (it reaches the floor through the constraints). Counting only each bottom
   // particle's own weight slowed it by a third of that.
-  PbdBody body;
+  Body body;
   const TetMesh mesh = makeTetBox(2, 2, 2, 0.05);
-  body.points = mesh.points;
-  body.tets = mesh.tets;
+  body.mesh.points = mesh.points;
+  body.mesh.tets = mesh.tets;
   PbdSettings settings;
   settings.formulation = PbdFormulation::Pbd;
   settings.floorEnabled = true;
@@ -343,14 +343,14 @@ TEST(PbdSimulation, BreakableLinksBreakUnderAPullAndNeverAtRest)
   // The same links in a dense column (20x the density) hanging from its top face: its weight
   // pulls it apart.
   const TetMesh column = makeTetBox(1, 1, 6, 0.05, Vec3(0, 0, 1.0));
-  PbdBody bar;
-  bar.points = column.points;
-  bar.tets = column.tets;
+  Body bar;
+  bar.mesh.points = column.points;
+  bar.mesh.tets = column.tets;
   bar.material.physical.density = 20000.0;
-  bar.pinned.assign(bar.points.size(), 0);
-  for (std::size_t i = 0; i < bar.points.size(); ++i)
+  bar.pinned.assign(bar.mesh.points.size(), 0);
+  for (std::size_t i = 0; i < bar.mesh.points.size(); ++i)
   {
-    bar.pinned[i] = bar.points[i].z() > 1.3 - 1e-9;
+    bar.pinned[i] = bar.mesh.points[i].z() > 1.3 - 1e-9;
   }
   settings.floorEnabled = false;
   PbdSimulation pulled(bar, settings);
@@ -374,8 +374,8 @@ TEST(PbdSimulation, PlasticLinksKeepAPermanentStretch)
   // One link, one pinned end, the free end thrown outward: it swings out and back. Elastic, the
   // rest length stays 1; plastic, it flows past the yield band and stays longer.
   auto run = [](double yield, double breaking) {
-    PbdBody body;
-    body.points = { Vec3(0, 0, 0), Vec3(1, 0, 0) };
+    Body body;
+    body.mesh.points = { Vec3(0, 0, 0), Vec3(1, 0, 0) };
     body.links = { { 0, 1 } };
     body.pointMass = { 1.0, 1.0 };
     body.pinned = { 1, 0 };
@@ -405,8 +405,8 @@ TEST(PbdSimulation, PlasticLinksKeepAPermanentStretch)
 /// step of the given settings.
 double linkLengthAfterOneStep(PbdSettings settings)
 {
-  PbdBody body;
-  body.points = { Vec3(0, 0, 0), Vec3(1, 0, 0) };
+  Body body;
+  body.mesh.points = { Vec3(0, 0, 0), Vec3(1, 0, 0) };
   body.links = { { 0, 1 } };
   body.pointMass = { 1.0, 1.0 };
   settings.gravity.setZero();
@@ -456,8 +456,8 @@ TEST(PbdSimulation, JacobiMovesAParticleByTheRelaxedMeanOfItsCorrections)
   // their mean, -0.5 omega (the plain sum would move it twice as far).
   for (double omega : { 1.0, 0.5 })
   {
-    PbdBody body;
-    body.points = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0) };
+    Body body;
+    body.mesh.points = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0) };
     body.links = { { 0, 1 }, { 1, 2 } };
     body.pointMass = { 1.0, 1.0, 1.0 };
     body.pinned = { 1, 0, 1 };
@@ -482,8 +482,8 @@ TEST(PbdSimulation, PlasticFlowStopsAtTheYieldBandAndBreakingCountsFromTheOrigin
   // edge of the yield band, L -+ yield, in one step; a link breaks when |L - l0| passes the
   // breaking strain of its original length l0.
   auto afterOneStep = [](double length, double yield, double breaking) {
-    PbdBody body;
-    body.points = { Vec3(0, 0, 0), Vec3(1, 0, 0) };
+    Body body;
+    body.mesh.points = { Vec3(0, 0, 0), Vec3(1, 0, 0) };
     body.links = { { 0, 1 } };
     body.pointMass = { 1.0, 1.0 };
     body.pinned = { 1, 1 }; // both held: the length stays L
@@ -516,14 +516,14 @@ TEST(PbdSimulation, ResumingWithPlasticAndBrokenLinksReproducesTheRunExactly)
   // restored, in the same simulation and in a fresh one (as the frame cache does), continues
   // to the same bits, rest lengths and broken flags as the straight run.
   const TetMesh column = makeTetBox(1, 1, 6, 0.05, Vec3(0, 0, 1.0));
-  PbdBody bar;
-  bar.points = column.points;
-  bar.tets = column.tets;
+  Body bar;
+  bar.mesh.points = column.points;
+  bar.mesh.tets = column.tets;
   bar.material.physical.density = 20000.0;
-  bar.pinned.assign(bar.points.size(), 0);
-  for (std::size_t i = 0; i < bar.points.size(); ++i)
+  bar.pinned.assign(bar.mesh.points.size(), 0);
+  for (std::size_t i = 0; i < bar.mesh.points.size(); ++i)
   {
-    bar.pinned[i] = bar.points[i].z() > 1.3 - 1e-9;
+    bar.pinned[i] = bar.mesh.points[i].z() > 1.3 - 1e-9;
   }
   PbdSettings settings;
   settings.links.compliance = 1e-3;
@@ -656,16 +656,16 @@ TEST(PbdSimulation, BadSettingsAndBodiesAreRefused)
   bad.relaxation = 2.5;
   EXPECT_THROW(PbdSimulation(boxBody(1, 0.1), bad), InvalidInputError);
   PbdSettings good;
-  PbdBody linksWithoutMass;
-  linksWithoutMass.points = { Vec3(0, 0, 0), Vec3(1, 0, 0) };
+  Body linksWithoutMass;
+  linksWithoutMass.mesh.points = { Vec3(0, 0, 0), Vec3(1, 0, 0) };
   linksWithoutMass.links = { { 0, 1 } };
   EXPECT_THROW(PbdSimulation(linksWithoutMass, good), InvalidInputError);
-  PbdBody coincident = linksWithoutMass;
-  coincident.points[1] = coincident.points[0];
+  Body coincident = linksWithoutMass;
+  coincident.mesh.points[1] = coincident.mesh.points[0];
   coincident.pointMass = { 1, 1 };
   EXPECT_THROW(PbdSimulation(coincident, good), InvalidInputError);
-  PbdBody nothing;
-  nothing.points = { Vec3(0, 0, 0) };
+  Body nothing;
+  nothing.mesh.points = { Vec3(0, 0, 0) };
   EXPECT_THROW(PbdSimulation(nothing, good), InvalidInputError);
 }
 
@@ -688,16 +688,16 @@ TEST(PbdSimulation, XpbdFromElasticityRestsWhereMassSpringRests)
   }
   const double E = 5.0e4, nu = 0.35, rho = 1000.0;
 
-  BodyDescription springs;
+  Body springs;
   springs.mesh = bar;
   springs.pinned = top;
   springs.material.physical = { E, nu, rho, 5.0e-3 };
   MassSpringSimulation massSpring(springs, SceneSettings{});
   massSpring.advance(3.0);
 
-  PbdBody particles;
-  particles.points = bar.points;
-  particles.tets = bar.tets;
+  Body particles;
+  particles.mesh.points = bar.points;
+  particles.mesh.tets = bar.tets;
   particles.pinned = top;
   particles.material.physical = { E, nu, rho, 0.0 };
   PbdSettings settings;
@@ -762,7 +762,7 @@ TEST(PbdSimulation, CantileverSagAgainstBeamTheoryForEachMethod)
     return sag / double(tip.size());
   };
 
-  BodyDescription springs;
+  Body springs;
   springs.mesh = bar;
   springs.pinned = clamped;
   springs.material.physical = { E, nu, rho, 1.0e-3 };
@@ -775,9 +775,9 @@ TEST(PbdSimulation, CantileverSagAgainstBeamTheoryForEachMethod)
     meanSag += tipSag(massSpring.positions()) / 40.0;
   }
 
-  PbdBody particles;
-  particles.points = bar.points;
-  particles.tets = bar.tets;
+  Body particles;
+  particles.mesh.points = bar.points;
+  particles.mesh.tets = bar.tets;
   particles.pinned = clamped;
   particles.material.physical = { E, nu, rho, 0.0 };
   PbdSettings settings;

@@ -63,9 +63,9 @@ std::int32_t bandwidth(const TetMesh& mesh, const Order& slot)
   return widest;
 }
 
-BodyDescription bodyOf(const TetMesh& mesh)
+Body bodyOf(const TetMesh& mesh)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = mesh;
   body.material.physical.youngsModulus = 2e4;
   // Pin the points of the top layer: pins must follow their points through the renumbering.
@@ -158,7 +158,7 @@ TEST(Reorder, BothOrdersBringNeighboursTogether)
 TEST(Reorder, MassSpringOutputsInInputOrderEqualTheRunAsGiven)
 {
   const TetMesh mesh = shuffledBox(5);
-  const BodyDescription body = bodyOf(mesh);
+  const Body body = bodyOf(mesh);
   const SceneSettings scene = sceneWithFloor();
   std::unique_ptr<Simulation> given = makeMassSpringSimulation(body, scene, VertexOrdering::Input);
   const double end = 60 * given->stepSize();
@@ -200,7 +200,7 @@ TEST(Reorder, MassSpringOutputsInInputOrderEqualTheRunAsGiven)
 
 TEST(Reorder, MassSpringSnapshotsInInputOrderResumeExactly)
 {
-  const BodyDescription body = bodyOf(shuffledBox(4));
+  const Body body = bodyOf(shuffledBox(4));
   std::unique_ptr<Simulation> sim = makeMassSpringSimulation(body, sceneWithFloor());
   const double h = sim->stepSize();
   sim->advance(20 * h);
@@ -222,7 +222,7 @@ TEST(Reorder, MassSpringSnapshotsInInputOrderResumeExactly)
 
 TEST(Reorder, MassSpringReorderedRunIsTheSameAtAnyThreadCount)
 {
-  const BodyDescription body = bodyOf(shuffledBox(9)); // enough vertices to split across tasks
+  const Body body = bodyOf(shuffledBox(9)); // enough vertices to split across tasks
   std::vector<std::vector<Vec3>> results;
   for (int threads : { 1, 2, 3 })
   {
@@ -239,7 +239,7 @@ TEST(Reorder, InvalidBodiesAreRefusedWithTheInputsOwnMessage)
 {
   TetMesh mesh = shuffledBox(3);
   mesh.tets[5] = { mesh.tets[5][0], mesh.tets[5][1], mesh.tets[5][2], 100000 };
-  BodyDescription body = bodyOf(mesh);
+  Body body = bodyOf(mesh);
   std::string plain, reordered;
   try
   {
@@ -270,22 +270,46 @@ TEST(Reorder, InvalidBodiesAreRefusedWithTheInputsOwnMessage)
   EXPECT_NE(b->warnings()[0].find("cell 7"), std::string::npos) << b->warnings()[0];
 }
 
+TEST(Reorder, MassSpringRefusesTheParticleEnginesPartsNamingThem)
+{
+  // One Body type serves every method; the mass-spring model reads tets only, so links or
+  // per-point masses it would ignore are refused rather than dropped.
+  Body body = bodyOf(shuffledBox(2));
+  body.links = { { 0, 1 }, { 1, 2 } };
+  body.pointMass = std::vector<double>(body.mesh.points.size(), 1.0);
+  for (VertexOrdering ordering : { VertexOrdering::Input, VertexOrdering::Morton })
+  {
+    try
+    {
+      makeMassSpringSimulation(body, sceneWithFloor(), ordering);
+      FAIL() << "a body with links was accepted";
+    }
+    catch (const InvalidInputError& error)
+    {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("2 links"), std::string::npos) << message;
+      EXPECT_NE(message.find("point masses"), std::string::npos) << message;
+      EXPECT_NE(message.find("PBD or XPBD"), std::string::npos) << message;
+    }
+  }
+}
+
 TEST(Reorder, PbdLinkBodiesAreBitwiseEqualToTheRunAsGiven)
 {
   // Links keep their order (only their ends are renumbered), so Gauss-Seidel projects the same
   // constraints in the same order on the same numbers: the same result bit for bit.
   ClothSpec spec;
   spec.particlesAlong1 = spec.particlesAlong2 = 12;
-  PbdBody body = makeCloth(spec);
+  Body body = makeCloth(spec);
   // Shuffle the particles, as an input might come.
   std::mt19937 rng(5);
-  Order order(body.points.size());
+  Order order(body.mesh.points.size());
   std::iota(order.begin(), order.end(), 0);
   std::shuffle(order.begin(), order.end(), rng);
   Reordering shuffle;
   shuffle.vertexOrder = order;
   shuffle.vertexSlot = inverseOrder(order);
-  body = reorderParticles(body, shuffle);
+  body = reorderBody(body, shuffle);
   for (PbdSolver solver : { PbdSolver::GaussSeidel, PbdSolver::ParallelGaussSeidel })
   {
     PbdSettings settings;
@@ -308,7 +332,7 @@ TEST(Reorder, PbdLinkBodiesAreBitwiseEqualToTheRunAsGiven)
       // The coloring follows the constraint graph's numbering: another order, same physics.
       EXPECT_LT(test::maxDistance(given->positions(), reordered->positions()), 1e-3);
     }
-    EXPECT_TRUE(test::bitwiseEqual(reordered->restPositions(), body.points));
+    EXPECT_TRUE(test::bitwiseEqual(reordered->restPositions(), body.mesh.points));
     EXPECT_EQ(reordered->inverseMasses(), given->inverseMasses());
   }
 }
@@ -316,9 +340,9 @@ TEST(Reorder, PbdLinkBodiesAreBitwiseEqualToTheRunAsGiven)
 TEST(Reorder, PbdTetBodiesInInputOrderMatchTheRunAsGiven)
 {
   const TetMesh mesh = shuffledBox(5);
-  PbdBody body;
-  body.points = mesh.points;
-  body.tets = mesh.tets;
+  Body body;
+  body.mesh.points = mesh.points;
+  body.mesh.tets = mesh.tets;
   body.material.physical.density = 1000.0;
   for (PbdSolver solver : { PbdSolver::GaussSeidel, PbdSolver::Jacobi, PbdSolver::ParallelGaussSeidel })
   {
@@ -354,9 +378,9 @@ TEST(Reorder, PbdTetBodiesInInputOrderMatchTheRunAsGiven)
 TEST(Reorder, PbdReorderedRunIsTheSameAtAnyThreadCount)
 {
   const TetMesh mesh = shuffledBox(8);
-  PbdBody body;
-  body.points = mesh.points;
-  body.tets = mesh.tets;
+  Body body;
+  body.mesh.points = mesh.points;
+  body.mesh.tets = mesh.tets;
   for (PbdSolver solver : { PbdSolver::Jacobi, PbdSolver::ParallelGaussSeidel })
   {
     std::vector<std::vector<Vec3>> results;

@@ -20,9 +20,9 @@ namespace
 {
 
 /// A 15 cm tet box whose bottom starts 5 cm above the floor at z = 0.
-BodyDescription massSpringBox()
+Body massSpringBox()
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(3, 3, 3, 0.05, Vec3(0, 0, 0.05));
   return body;
 }

@@ -11,9 +11,9 @@ using namespace softbody;
 namespace
 {
 
-BodyDescription boxBody(const Vec3& origin = Vec3(0, 0, 0.2))
+Body boxBody(const Vec3& origin = Vec3(0, 0, 0.2))
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(3, 3, 3, 0.05, origin);
   return body;
 }
@@ -40,9 +40,9 @@ Vec3 angularMomentum(const MassSpringSimulation& sim)
 
 /// The GPU tests' hanging scene body: 6 x 5 x 4 cells of 2 cm, top face pinned, raw constants
 /// with volume damping (k_D, k_D,d, k_V, k_V,d, total mass).
-BodyDescription hangingBox()
+Body hangingBox()
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(6, 5, 4, 0.02, Vec3(0, 0, 0.01));
   body.pinned.assign(body.mesh.points.size(), 0);
   for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
@@ -58,7 +58,7 @@ BodyDescription hangingBox()
 
 TEST(Simulation, TotalMassIsDensityTimesVolume)
 {
-  const BodyDescription body = boxBody();
+  const Body body = boxBody();
   const MassSpringSimulation sim(body, SceneSettings{});
   EXPECT_NEAR(sim.totalMass(), body.material.physical.density * std::pow(0.15, 3), 1e-9);
 }
@@ -101,7 +101,7 @@ TEST(Simulation, EulerCromerConservesMomentumOfAFreeSpinningBody)
 {
   // No gravity, no floor: internal forces (with damping) are central and rotation invariant,
   // and symplectic Euler conserves sum m x_n x v_n exactly for such forces.
-  BodyDescription body = boxBody();
+  Body body = boxBody();
   SceneSettings scene;
   scene.gravity = Vec3::Zero();
   MassSpringSimulation sim(body, scene);
@@ -121,7 +121,7 @@ TEST(Simulation, EulerCromerConservesMomentumOfAFreeSpinningBody)
 
 TEST(Simulation, PinnedPointsNeverMoveAndTheBodyHangs)
 {
-  BodyDescription body = boxBody(Vec3(0, 0, 1));
+  Body body = boxBody(Vec3(0, 0, 1));
   body.pinned.assign(body.mesh.points.size(), 0);
   std::vector<std::size_t> top;
   for (std::size_t i = 0; i < body.mesh.points.size(); ++i)
@@ -144,7 +144,7 @@ TEST(Simulation, PinnedPointsNeverMoveAndTheBodyHangs)
 
 namespace
 {
-std::vector<Vec3> positionsAt(const BodyDescription& body, const SceneSettings& scene, double t)
+std::vector<Vec3> positionsAt(const Body& body, const SceneSettings& scene, double t)
 {
   MassSpringSimulation sim(body, scene);
   sim.advance(t);
@@ -153,7 +153,7 @@ std::vector<Vec3> positionsAt(const BodyDescription& body, const SceneSettings& 
 
 /// Runs to t1, snapshots, runs on to t2, restores and runs to t3; expects the same bits as a
 /// run to t1 and then t3.
-void expectExactResume(const BodyDescription& body, const SceneSettings& scene, double t1 = 0.2,
+void expectExactResume(const Body& body, const SceneSettings& scene, double t1 = 0.2,
   double t2 = 0.3, double t3 = 0.4)
 {
   MassSpringSimulation straight(body, scene);
@@ -194,20 +194,20 @@ TEST(Simulation, ResumingAHangingBodyWithEveryStageReproducesTheRunExactly)
   // The GPU tests' hanging scene: pinned top face, strain limit 1.01, raw constants with volume
   // damping. Each acts (measured: the limiter moves points by 0.4-0.5 mm, volume damping by
   // 0.04-0.05 mm, the pins hold the body up by 49 mm), then resume.
-  const BodyDescription body = hangingBox();
+  const Body body = hangingBox();
   SceneSettings scene;
   scene.strainLimit = 1.01;
   for (Integrator integrator : { Integrator::Verlet, Integrator::EulerCromer })
   {
     scene.integrator = integrator;
     const std::vector<Vec3> reference = positionsAt(body, scene, 0.1);
-    BodyDescription free = body;
+    Body free = body;
     free.pinned.clear();
     EXPECT_GT(test::maxDistance(positionsAt(free, scene, 0.1), reference), 0.03);
     SceneSettings noLimit = scene;
     noLimit.strainLimit = 0.0;
     EXPECT_GT(test::maxDistance(positionsAt(body, noLimit, 0.1), reference), 1e-4);
-    BodyDescription noVolumeDamping = body;
+    Body noVolumeDamping = body;
     noVolumeDamping.material.raw.volumeDamping = 0.0;
     EXPECT_GT(test::maxDistance(positionsAt(noVolumeDamping, scene, 0.1), reference), 1e-5);
     expectExactResume(body, scene, 0.05, 0.08, 0.1);
@@ -216,7 +216,7 @@ TEST(Simulation, ResumingAHangingBodyWithEveryStageReproducesTheRunExactly)
 
 TEST(Simulation, StrainLimitHoldsDuringAFallOntoTheFloor)
 {
-  BodyDescription body = boxBody(Vec3(0, 0, 0.5));
+  Body body = boxBody(Vec3(0, 0, 0.5));
   body.material.physical.youngsModulus = 2e3; // very soft: it would stretch a lot on impact
   SceneSettings scene;
   scene.floorEnabled = true;
@@ -234,7 +234,7 @@ TEST(Simulation, StrainLimitHoldsDuringAFallOntoTheFloor)
 
 TEST(Simulation, BadInputIsRefusedWithAClearMessage)
 {
-  auto messageOf = [](BodyDescription body, SceneSettings scene) -> std::string {
+  auto messageOf = [](Body body, SceneSettings scene) -> std::string {
     try
     {
       MassSpringSimulation sim(std::move(body), scene);
@@ -245,18 +245,18 @@ TEST(Simulation, BadInputIsRefusedWithAClearMessage)
     }
     return "";
   };
-  BodyDescription empty;
+  Body empty;
   EXPECT_NE(messageOf(empty, {}).find("empty"), std::string::npos);
 
-  BodyDescription nan = boxBody();
+  Body nan = boxBody();
   nan.mesh.points[5].y() = std::nan("");
   EXPECT_NE(messageOf(nan, {}).find("NaN"), std::string::npos);
 
-  BodyDescription flat = boxBody();
+  Body flat = boxBody();
   flat.mesh.tets.push_back({ 0, 1, 2, 3 }); // points 0..3 lie on one line of the box
   EXPECT_NE(messageOf(flat, {}).find("degenerate"), std::string::npos);
 
-  BodyDescription inverted = boxBody();
+  Body inverted = boxBody();
   std::swap(inverted.mesh.tets[7][0], inverted.mesh.tets[7][1]);
   SceneSettings refuse;
   refuse.invertedTets = InvertedTetPolicy::Refuse;
@@ -269,7 +269,7 @@ TEST(Simulation, BadInputIsRefusedWithAClearMessage)
     EXPECT_DOUBLE_EQ(ratio, 1.0);
   }
 
-  BodyDescription soft = boxBody();
+  Body soft = boxBody();
   soft.material.physical.youngsModulus = -5;
   EXPECT_NE(messageOf(soft, {}).find("YoungsModulus"), std::string::npos);
   soft.material.physical.youngsModulus = 1e5;
@@ -286,7 +286,7 @@ TEST(Simulation, VerletVelocityStaysThePositionStepWhenTheLimiterMovesPoints)
   // Leapfrog stores v_{n+1/2} = (x_{n+1} - x_n) / h. The strain limiter moves points after the
   // drift, so it must move their velocities by the same amount over h, or Verlet's velocity
   // stops being its position step (without it, a 0.12 m body ends 2.2 mm away).
-  const BodyDescription body = hangingBox();
+  const Body body = hangingBox();
   SceneSettings scene;
   scene.integrator = Integrator::Verlet;
   scene.strainLimit = 1.01;
@@ -312,7 +312,7 @@ TEST(Simulation, VerletVelocityStaysThePositionStepWhenTheLimiterMovesPoints)
 TEST(Simulation, PinnedPointsBelowTheFloorStayPinned)
 {
   // A pinned point is fixed in space, even where the floor would push a free point out.
-  BodyDescription body = boxBody(Vec3(0, 0, -0.01));
+  Body body = boxBody(Vec3(0, 0, -0.01));
   body.pinned.assign(body.mesh.points.size(), 0);
   std::vector<std::size_t> pinned;
   for (std::size_t i = 0; i < body.mesh.points.size(); ++i)

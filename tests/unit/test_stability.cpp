@@ -45,7 +45,7 @@ TEST(Stability, FrequencyEstimateOfASingleFreeCornerIsItsExactFrequency)
   TetMesh mesh;
   mesh.points = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1) };
   mesh.tets = { { 0, 1, 2, 3 } };
-  BodyDescription body;
+  Body body;
   body.mesh = mesh;
   body.pinned = { 1, 1, 1, 0 };
   body.material.mode = MaterialMode::Raw;
@@ -147,7 +147,7 @@ TEST(Stability, FrequencyEstimateIsJustAboveTheExactTopFrequency)
     { "jittered box, bottom pinned", jittered, true } };
   for (const Case& c : cases)
   {
-    BodyDescription body;
+    Body body;
     body.mesh = c.mesh;
     body.pinned.assign(c.mesh.points.size(), 0);
     for (std::size_t i = 0; i < c.mesh.points.size() && c.pinBottom; ++i)
@@ -186,7 +186,7 @@ TEST(Stability, ContinuumFrequencyEstimateIsJustAboveTheExactTopFrequencyOfEithe
   {
     for (double nu : { 0.3, 0.45 })
     {
-      BodyDescription body;
+      Body body;
       body.mesh = jittered;
       body.material.model = model;
       body.material.physical.youngsModulus = 1e6;
@@ -211,7 +211,7 @@ TEST(Stability, ContinuumFrequencyEstimateIsJustAboveTheExactTopFrequencyOfEithe
       EXPECT_EQ(sim.highestFrequency(), std::min(gershgorin, kDeformationMargin * lanczos.upperOmega));
       // The same body 1,000 km from the origin (its start vector, hashed from the positions,
       // differs): the estimate still brackets the same omega_max.
-      BodyDescription far = body;
+      Body far = body;
       for (Vec3& p : far.mesh.points)
       {
         p += Vec3(1e6, -2e6, 5e5);
@@ -227,7 +227,7 @@ TEST(Stability, ContinuumFrequencyEstimateIsJustAboveTheExactTopFrequencyOfEithe
 
 TEST(Stability, ContinuumFrequencyEstimateIsTheSameAtAnyThreadCount)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(12, 10, 8, 0.01);
   body.material.model = MaterialModel::Corotated;
   auto estimate = [&](int threads) {
@@ -244,7 +244,7 @@ TEST(Stability, ContinuumFrequencyEstimateIsTheSameAtAnyThreadCount)
 
 TEST(Stability, FrequencyEstimateIsTheSameAtAnyThreadCount)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(12, 10, 8, 0.01); // ~5k tets: several parallel chunks per pass
   auto estimate = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
@@ -262,7 +262,7 @@ namespace
 {
 /// Whether `steps` steps of h, from the rest shape with small random velocities (no gravity, no
 /// floor), multiply the body's energy by more than 1000 (or blow it up).
-bool blowsUp(const BodyDescription& body, SceneSettings scene, double h, int steps)
+bool blowsUp(const Body& body, SceneSettings scene, double h, int steps)
 {
   scene.timeStep = h;
   scene.gravity = Vec3::Zero();
@@ -286,7 +286,7 @@ bool blowsUp(const BodyDescription& body, SceneSettings scene, double h, int ste
 }
 
 /// The largest stable step of the simulation itself, bisected between lo (stable) and hi.
-double bisectedLimit(const BodyDescription& body, const SceneSettings& scene, double lo, double hi)
+double bisectedLimit(const Body& body, const SceneSettings& scene, double lo, double hi)
 {
   for (int iteration = 0; iteration < 12; ++iteration)
   {
@@ -318,7 +318,7 @@ TEST(Stability, AutomaticStepIsSafeAndWithinTwoOfTheBisectedLimit)
   };
   for (const Case& c : cases)
   {
-    BodyDescription body;
+    Body body;
     body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 0.1));
     body.material.physical.dampingTime = c.dampingTime;
     SceneSettings scene;
@@ -346,7 +346,7 @@ TEST(Stability, ContinuumAutomaticStepIsSafeAndWithinTwoOfTheBisectedLimit)
     for (const auto& [integrator, dampingTime] :
       { std::pair{ Integrator::Verlet, 0.0 }, std::pair{ Integrator::EulerCromer, 2e-3 } })
     {
-      BodyDescription body;
+      Body body;
       body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 0.1));
       body.material.model = model;
       body.material.physical.dampingTime = dampingTime;
@@ -368,7 +368,7 @@ TEST(Stability, ContinuumAutomaticStepIsSafeAndWithinTwoOfTheBisectedLimit)
 
 TEST(Stability, AFarLargerStepIsCaughtWithItsTime)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(4, 4, 4, 0.05, Vec3(0, 0, 0.1));
   body.material.physical.dampingTime = 0.0;
   SceneSettings scene;
@@ -396,9 +396,9 @@ TEST(Stability, AFarLargerStepIsCaughtWithItsTime)
 
 namespace
 {
-BodyDescription steelBar(double dampingTime)
+Body steelBar(double dampingTime)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(2, 2, 8, 0.0125, Vec3(0, 0, 0.1)); // a 2.5 x 2.5 x 10 cm bar
   body.material.physical.youngsModulus = 2.0e11;
   body.material.physical.poissonRatio = 0.3;
@@ -447,7 +447,7 @@ TEST(Stability, ALongRunIsAnnouncedWithItsCauseAndRemedies)
   EXPECT_NE(warning.find("with DampingTime 0 the stable step would be"), std::string::npos) << warning;
   EXPECT_NE(warning.find("MaxInverseMass"), std::string::npos) << warning;
   // A soft body for a few seconds needs no warning.
-  BodyDescription jelly;
+  Body jelly;
   jelly.mesh = makeTetBox(3, 3, 3, 0.05, Vec3(0, 0, 0.2));
   MassSpringSimulation soft(jelly, SceneSettings{});
   EXPECT_EQ(soft.longRunWarning(3.0), "") << soft.estimatedStableStep();

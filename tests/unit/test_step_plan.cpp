@@ -16,19 +16,19 @@ using namespace softbody;
 
 namespace
 {
-BodyDescription massSpringBox()
+Body massSpringBox()
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 0.2));
   return body;
 }
 
-PbdBody pbdBox()
+Body pbdBox()
 {
   const TetMesh mesh = makeTetBox(2, 2, 2, 0.05, Vec3(0, 0, 0.2));
-  PbdBody body;
-  body.points = mesh.points;
-  body.tets = mesh.tets;
+  Body body;
+  body.mesh.points = mesh.points;
+  body.mesh.tets = mesh.tets;
   body.material.physical.density = 1000.0;
   return body;
 }
@@ -103,7 +103,7 @@ TEST(MassSpringPlan, CollisionStagesAppearWithObstaclesOrBodyCollisions)
 
 TEST(MassSpringPlan, ForcesSayWhetherTheyIncludeVolumes)
 {
-  BodyDescription body = massSpringBox();
+  Body body = massSpringBox();
   body.material.mode = MaterialMode::Raw;
   body.material.raw.volumeStiffness = 0.0;
   body.material.raw.volumeDamping = 0.0;
@@ -132,7 +132,7 @@ TEST(PbdPlan, ZeroStiffnessVolumesAreNotSwept)
   // (lambda - mu) is not positive, so every tet compliance is infinite and nothing is swept.
   PbdSettings xpbd;
   xpbd.elasticFromMaterial = true;
-  PbdBody body = pbdBox();
+  Body body = pbdBox();
   body.material.physical.poissonRatio = 0.2;
   PbdSimulation soft(body, xpbd);
   EXPECT_FALSE(planHas(soft, Stage::SolveVolumes));
@@ -156,14 +156,14 @@ TEST(PbdPlan, ZeroStiffnessLinksAreNotSweptAndTheBodyFallsFreely)
   EXPECT_FALSE(planHas(unconstrained, Stage::SolveVolumes));
   unconstrained.advance(0.1);
   // Every particle falls as a free particle: x = x0 + g t^2 / 2 up to symplectic Euler's O(h).
-  PbdBody rest = pbdBox();
+  Body rest = pbdBox();
   const double t = 0.1;
   const double h = unconstrained.stepSize();
   const double steps = std::round(t / h);
   const double fall = 9.81 * h * h * steps * (steps + 1) / 2.0; // symplectic Euler, exactly
-  for (std::size_t i = 0; i < rest.points.size(); ++i)
+  for (std::size_t i = 0; i < rest.mesh.points.size(); ++i)
   {
-    EXPECT_NEAR(unconstrained.positions()[i].z(), rest.points[i].z() - fall, 1e-12);
+    EXPECT_NEAR(unconstrained.positions()[i].z(), rest.mesh.points[i].z() - fall, 1e-12);
   }
 }
 

@@ -45,7 +45,7 @@ TEST(VertexBlockDescent, ConvergesToImplicitEulerForEveryMaterialModel)
 {
   for (MaterialModel model : { MaterialModel::SpringNetwork, MaterialModel::Corotated, MaterialModel::StableNeoHookean })
   {
-    BodyDescription body;
+    Body body;
     body.mesh = makeTetBox(4, 3, 3, 0.05);
     body.material.model = model;
     body.pinned.assign(body.mesh.points.size(), 0);
@@ -120,7 +120,7 @@ TEST(VertexBlockDescent, ABodyLandsOnTheFloorAndRests)
 {
   for (double youngs : { 1e5, 1e7 })
   {
-    BodyDescription body;
+    Body body;
     body.mesh = makeTetBox(5, 4, 3, 0.04, Vec3(0, 0, 0.03));
     body.material.model = MaterialModel::StableNeoHookean;
     body.material.physical.youngsModulus = youngs;
@@ -154,7 +154,7 @@ TEST(VertexBlockDescent, ABodyLandsOnTheFloorAndRests)
 // allows); a radius outside [0, 1) is refused, quoting it.
 TEST(VertexBlockDescent, ChebyshevAccelerationNeedsFewerSweepsForTheSameRestState)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = makeTetBox(6, 6, 4, 0.025, Vec3(0, 0, 0.001));
   body.material.physical.youngsModulus = 1e4;
   SceneSettings scene;
@@ -195,7 +195,7 @@ TEST(VertexBlockDescent, ResultsDoNotDependOnTheThreadCount)
   for (std::size_t threads : { 1u, 2u })
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    BodyDescription body;
+    Body body;
     body.mesh = makeTetBox(5, 4, 3, 0.03, Vec3(0, 0, 0.02));
     body.material.model = MaterialModel::Corotated;
     SceneSettings scene;

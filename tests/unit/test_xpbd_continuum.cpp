@@ -109,11 +109,11 @@ void expectConstraintsAreTheLaw()
 
 /// The mesh as a body of `model` with Young's modulus E [Pa], Poisson's ratio nu and density
 /// rho [kg/m^3], its mass lumped as the finite elements' is.
-PbdBody xpbdBody(const TetMesh& mesh, MaterialModel model, double E, double nu, double rho)
+Body xpbdBody(const TetMesh& mesh, MaterialModel model, double E, double nu, double rho)
 {
-  PbdBody body;
-  body.points = mesh.points;
-  body.tets = mesh.tets;
+  Body body;
+  body.mesh.points = mesh.points;
+  body.mesh.tets = mesh.tets;
   body.material.model = model;
   body.material.physical = { E, nu, rho, 0.0 };
   body.material.massDistribution = MassDistribution::LumpedVolume;
@@ -129,7 +129,7 @@ PbdSettings xpbdSettings()
   return settings;
 }
 
-std::string refusal(const PbdBody& body, const PbdSettings& settings)
+std::string refusal(const Body& body, const PbdSettings& settings)
 {
   return test::refusalOf<PbdSimulation>(body, settings);
 }
@@ -203,7 +203,7 @@ struct HangingBar
 
 std::vector<Vec3> staticSolve(const HangingBar& bar, MaterialModel model)
 {
-  BodyDescription body;
+  Body body;
   body.mesh = bar.mesh;
   body.pinned = bar.top;
   body.material.model = model;
@@ -214,7 +214,7 @@ std::vector<Vec3> staticSolve(const HangingBar& bar, MaterialModel model)
 
 std::vector<Vec3> xpbdAtRest(const HangingBar& bar, MaterialModel model, int substeps)
 {
-  PbdBody body = xpbdBody(bar.mesh, model, bar.youngsModulus, bar.poissonRatio, bar.density);
+  Body body = xpbdBody(bar.mesh, model, bar.youngsModulus, bar.poissonRatio, bar.density);
   body.pinned = bar.top;
   PbdSettings settings = xpbdSettings();
   settings.substeps = substeps;
@@ -284,7 +284,7 @@ TEST(XpbdContinuum, PatchTestConvergesToTheAffineMapAsSubstepsShrink)
     const std::array<int, 3> substeps{ 1, 2, 4 };
     for (std::size_t k = 0; k < 3; ++k)
     {
-      PbdBody body = xpbdBody(cube, model, 1.0e5, 0.3, 1000.0);
+      Body body = xpbdBody(cube, model, 1.0e5, 0.3, 1000.0);
       body.pinned = boundary;
       PbdSettings settings = xpbdSettings();
       settings.gravity = Vec3::Zero();
@@ -396,7 +396,7 @@ TEST(XpbdContinuum, LandingIsTheSameAtAnyThreadCountAndInvertsNoTet)
 
 TEST(XpbdContinuum, RefusesWhatHasNoMeaningQuotingTheValue)
 {
-  PbdBody body = xpbdBody(makeTetBox(2, 2, 2, 0.1), MaterialModel::Corotated, 1.0e5, -0.2, 1000.0);
+  Body body = xpbdBody(makeTetBox(2, 2, 2, 0.1), MaterialModel::Corotated, 1.0e5, -0.2, 1000.0);
   PbdSettings settings = xpbdSettings();
   EXPECT_NE(refusal(body, settings).find("PoissonRatio -0.2 gives Corotated's hydrostatic constraint a negative"),
     std::string::npos) << refusal(body, settings);

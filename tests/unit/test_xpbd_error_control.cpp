@@ -20,12 +20,12 @@ namespace
 
 /// A bar of 1 x 1 x 8 cells of 5 cm hanging from its top face, released from rest: it
 /// stretches and oscillates about its static sag (about 1 cm).
-PbdBody hangingBar()
+Body hangingBar()
 {
   const TetMesh mesh = makeTetBox(1, 1, 8, 0.05);
-  PbdBody body;
-  body.points = mesh.points;
-  body.tets = mesh.tets;
+  Body body;
+  body.mesh.points = mesh.points;
+  body.mesh.tets = mesh.tets;
   body.material.model = MaterialModel::StableNeoHookean;
   body.material.physical = { 1.0e5, 0.3, 1000.0, 0.0 };
   body.material.massDistribution = MassDistribution::LumpedVolume;
@@ -134,7 +134,7 @@ TEST(XpbdErrorControl, PbdAndBadTolerancesAreRefusedQuotingTheValue)
   PbdSettings pbd = xpbd();
   pbd.formulation = PbdFormulation::Pbd;
   pbd.stepControl = StepControl::ErrorControlled;
-  PbdBody body = hangingBar();
+  Body body = hangingBar();
   body.material.model = MaterialModel::SpringNetwork;
   const std::string message = test::refusalOf<PbdSimulation>(body, pbd);
   EXPECT_NE(message.find("TimeStepMode 1"), std::string::npos) << message;

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "softbody/mesh/tetrahedralize.h"
-#include "softbody/pbd/pbd_body.h"
+#include "softbody/scene/body.h"
 
 #include <algorithm>
 #include <cmath>
@@ -48,12 +48,12 @@ inline TetMesh tetTorus(double maxTetVolume)
   return tetrahedralizeSurface(points, triangles, options);
 }
 
-/// The pair as one PbdBody: the lower torus centred at z = 0.5 m, the upper one above it, its
+/// The pair as one Body: the lower torus centred at z = 0.5 m, the upper one above it, its
 /// lowest point `overlap` metres below the lower torus's highest point (< 0: a gap). Points
 /// [0, lowerPoints) are the lower torus's.
 struct TorusPair
 {
-  PbdBody body;
+  Body body;
   std::size_t lowerPoints = 0;
 };
 
@@ -70,16 +70,16 @@ inline TorusPair torusPair(double overlap, double maxTetVolume = 2e-5)
   TorusPair pair;
   for (const Vec3& centre : { lower, upper })
   {
-    const auto offset = static_cast<std::int32_t>(pair.body.points.size());
+    const auto offset = static_cast<std::int32_t>(pair.body.mesh.points.size());
     for (const Vec3& p : torus.points)
     {
-      pair.body.points.push_back(p + centre);
+      pair.body.mesh.points.push_back(p + centre);
     }
     for (Tet t : torus.tets)
     {
       for (std::int32_t& v : t)
         v += offset;
-      pair.body.tets.push_back(t);
+      pair.body.mesh.tets.push_back(t);
     }
   }
   pair.lowerPoints = torus.points.size();

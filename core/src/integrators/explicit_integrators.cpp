@@ -12,8 +12,8 @@ namespace
 constexpr std::size_t kGrain = 4096;
 
 /// Runs body(i) for every point, in parallel. Each i is written by exactly one task.
-template <typename Body>
-void forEachPoint(std::size_t count, const Body& body)
+template <typename Function>
+void forEachPoint(std::size_t count, const Function& body)
 {
   parallelFor(count, kGrain, body);
 }

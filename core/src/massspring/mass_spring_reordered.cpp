@@ -8,30 +8,7 @@
 namespace softbody
 {
 
-BodyDescription reorderBody(const BodyDescription& body, const Reordering& reordering)
-{
-  BodyDescription stored;
-  stored.mesh.points = toStorageOrder(body.mesh.points, reordering.vertexOrder);
-  stored.mesh.tets = reorderTets(body.mesh.tets, reordering);
-  stored.pinned = toStorageOrder(body.pinned, reordering.vertexOrder);
-  stored.material = body.material;
-  CellMaterial& cells = stored.material.cells;
-  cells.youngsModulus = toStorageOrder(cells.youngsModulus, reordering.tetOrder);
-  cells.poissonRatio = toStorageOrder(cells.poissonRatio, reordering.tetOrder);
-  cells.density = toStorageOrder(cells.density, reordering.tetOrder);
-  stored.conditions = body.conditions;
-  const Order slot = inverseOrder(reordering.vertexOrder);
-  for (Condition& c : stored.conditions)
-  {
-    for (std::int32_t& p : c.points)
-    {
-      p = slot[static_cast<std::size_t>(p)];
-    }
-  }
-  return stored;
-}
-
-std::unique_ptr<Simulation> buildReorderedMassSpring(BodyDescription body,
+std::unique_ptr<Simulation> buildReorderedMassSpring(Body body,
   const SceneSettings& scene, VertexOrdering ordering, const MassSpringFactory& make)
 {
   if (ordering == VertexOrdering::Input)
@@ -49,11 +26,8 @@ std::unique_ptr<Simulation> buildReorderedMassSpring(BodyDescription body,
     }
     // Validated (and inverted tets re-oriented) in input order, so messages name input cells;
     // the stepper's own validation then finds nothing more to say about the tets.
-    BodyDescription prepared;
-    prepared.mesh = prepareTetMesh(body.mesh, scene.invertedTets, meshWarnings);
-    prepared.pinned = body.pinned;
-    prepared.material = body.material;
-    prepared.conditions = body.conditions;
+    Body prepared = body;
+    prepared.mesh = prepareTetMesh(std::move(prepared.mesh), scene.invertedTets, meshWarnings);
     std::vector<std::string> ignored; // said by the stepper itself
     validateConditions(body.conditions, body.mesh.points.size(), ignored);
     reordering = computeReordering(ordering, prepared.mesh.points, prepared.mesh.tets, {}, true);
@@ -85,10 +59,10 @@ std::unique_ptr<Simulation> buildReorderedMassSpring(BodyDescription body,
   return std::make_unique<ReorderedSimulation>(std::move(inner), std::move(reordering), std::move(warnings));
 }
 
-std::unique_ptr<Simulation> makeMassSpringSimulation(BodyDescription body,
+std::unique_ptr<Simulation> makeMassSpringSimulation(Body body,
   const SceneSettings& scene, VertexOrdering ordering)
 {
-  return buildReorderedMassSpring(std::move(body), scene, ordering, [&](BodyDescription stored) {
+  return buildReorderedMassSpring(std::move(body), scene, ordering, [&](Body stored) {
     return std::unique_ptr<Simulation>(std::make_unique<MassSpringSimulation>(std::move(stored), scene));
   });
 }

@@ -129,7 +129,7 @@ void chooseStep(MassSpringSetup& s)
 
 } // namespace
 
-MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& scene)
+MassSpringSetup prepareMassSpring(Body body, const SceneSettings& scene)
 {
   MassSpringSetup s;
   s.scene = scene;
@@ -137,6 +137,11 @@ MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& sce
   if (!body.pinned.empty() && body.pinned.size() != body.mesh.points.size())
   {
     throw InvalidInputError("The pinned-point flags do not match the number of points.");
+  }
+  if (const std::string parts = body.particleOnlyParts(); !parts.empty())
+  {
+    throw InvalidInputError("The body has " + parts + ", which only the particle engine (Method "
+      "PBD or XPBD) reads; the mass-spring and finite-element methods take tets alone.");
   }
   s.mesh = prepareTetMesh(std::move(body.mesh), s.scene.invertedTets, s.warnings);
   validateErrorTolerance(s.scene, s.mesh);

@@ -53,7 +53,7 @@ private:
   const MassSpringSimulation& Owner;
 };
 
-MassSpringSimulation::MassSpringSimulation(BodyDescription body, const SceneSettings& scene)
+MassSpringSimulation::MassSpringSimulation(Body body, const SceneSettings& scene)
 {
   // Set-up shared with the GPU stepper (mass_spring_setup.h).
   MassSpringSetup setup = prepareMassSpring(std::move(body), scene);

@@ -5,7 +5,7 @@
 namespace softbody
 {
 
-PbdBody makeCloth(const ClothSpec& spec)
+Body makeCloth(const ClothSpec& spec)
 {
   const int nx = spec.particlesAlong1;
   const int ny = spec.particlesAlong2;
@@ -25,12 +25,12 @@ PbdBody makeCloth(const ClothSpec& spec)
   }
   auto index = [nx](int i, int j) { return static_cast<std::int32_t>(j * nx + i); };
 
-  PbdBody body;
+  Body body;
   for (int j = 0; j < ny; ++j)
   {
     for (int i = 0; i < nx; ++i)
     {
-      body.points.push_back(spec.origin + (double(i) / (nx - 1)) * u + (double(j) / (ny - 1)) * v);
+      body.mesh.points.push_back(spec.origin + (double(i) / (nx - 1)) * u + (double(j) / (ny - 1)) * v);
     }
   }
   for (int j = 0; j < ny; ++j)
@@ -62,7 +62,7 @@ PbdBody makeCloth(const ClothSpec& spec)
     }
   }
   // Two triangles per cell, counter-clockwise seen from the side point1 x point2 points to:
-  // what the cloth collides through (both sides: PbdBody::surfaceTriangles).
+  // what the cloth collides through (both sides: Body::surfaceTriangles).
   for (int j = 0; j + 1 < ny; ++j)
   {
     for (int i = 0; i + 1 < nx; ++i)
@@ -71,8 +71,8 @@ PbdBody makeCloth(const ClothSpec& spec)
       body.surfaceTriangles.push_back({ index(i, j), index(i + 1, j + 1), index(i, j + 1) });
     }
   }
-  body.pointMass.assign(body.points.size(), spec.totalMass / static_cast<double>(body.points.size()));
-  body.pinned.assign(body.points.size(), 0);
+  body.pointMass.assign(body.mesh.points.size(), spec.totalMass / static_cast<double>(body.mesh.points.size()));
+  body.pinned.assign(body.mesh.points.size(), 0);
   if (spec.pins != ClothPins::None)
   {
     body.pinned[static_cast<std::size_t>(index(0, ny - 1))] = 1;

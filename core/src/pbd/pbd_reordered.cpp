@@ -7,11 +7,11 @@ namespace softbody
 {
 namespace
 {
-bool indicesValid(const PbdBody& body)
+bool indicesValid(const Body& body)
 {
-  const std::size_t n = body.points.size();
+  const std::size_t n = body.mesh.points.size();
   auto valid = [n](std::int32_t i) { return i >= 0 && std::size_t(i) < n; };
-  for (const Tet& t : body.tets)
+  for (const Tet& t : body.mesh.tets)
   {
     for (std::int32_t i : t)
     {
@@ -43,43 +43,8 @@ bool indicesValid(const PbdBody& body)
 }
 } // namespace
 
-PbdBody reorderParticles(const PbdBody& body, const Reordering& reordering)
-{
-  PbdBody stored = body;
-  const Order& slot = reordering.vertexSlot;
-  stored.points = toStorageOrder(body.points, reordering.vertexOrder);
-  for (Tet& t : stored.tets)
-  {
-    for (std::int32_t& v : t)
-    {
-      v = slot[static_cast<std::size_t>(v)];
-    }
-  }
-  for (auto& l : stored.links)
-  {
-    l = { slot[static_cast<std::size_t>(l[0])], slot[static_cast<std::size_t>(l[1])] };
-  }
-  for (auto& triangle : stored.surfaceTriangles)
-  {
-    for (std::int32_t& v : triangle)
-    {
-      v = slot[static_cast<std::size_t>(v)];
-    }
-  }
-  stored.pointMass = toStorageOrder(body.pointMass, reordering.vertexOrder);
-  stored.pinned = toStorageOrder(body.pinned, reordering.vertexOrder);
-  for (Condition& c : stored.conditions)
-  {
-    for (std::int32_t& p : c.points)
-    {
-      p = slot[static_cast<std::size_t>(p)];
-    }
-  }
-  return stored;
-}
-
 std::unique_ptr<Simulation> makePbdSimulation(
-  PbdBody body, const PbdSettings& settings, VertexOrdering ordering, PbdSimulation** solver)
+  Body body, const PbdSettings& settings, VertexOrdering ordering, PbdSimulation** solver)
 {
   auto plain = [&]() {
     auto simulation = std::make_unique<PbdSimulation>(std::move(body), settings);
@@ -96,8 +61,8 @@ std::unique_ptr<Simulation> makePbdSimulation(
   try
   {
     Reordering reordering =
-      computeReordering(ordering, body.points, body.tets, body.links, false);
-    auto simulation = std::make_unique<PbdSimulation>(reorderParticles(body, reordering), settings);
+      computeReordering(ordering, body.mesh.points, body.mesh.tets, body.links, false);
+    auto simulation = std::make_unique<PbdSimulation>(reorderBody(body, reordering), settings);
     PbdSimulation* inner = simulation.get();
     auto wrapped = std::make_unique<ReorderedSimulation>(std::move(simulation), std::move(reordering));
     if (solver)

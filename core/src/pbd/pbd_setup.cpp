@@ -34,7 +34,7 @@ bool constraintsFromMaterial(const PbdSettings& s, const MaterialSettings& mater
 /// What the body's material may ask of this formulation, refused with the reason and the
 /// pairing that works. Its values are checked cell by cell where the constants are computed
 /// (validateMaterial), as under Mass-Spring.
-void validateMaterialUse(const PbdSettings& s, const PbdBody& body)
+void validateMaterialUse(const PbdSettings& s, const Body& body)
 {
   const MaterialSettings& material = body.material;
   const std::string name = materialModelName(material.model);
@@ -146,23 +146,23 @@ bool hardAttachment(const PbdSettings& s)
 
 } // namespace
 
-PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
+PbdSimulation::PbdSimulation(Body body, const PbdSettings& settings)
   : Settings(settings)
 {
   validateSettings(Settings);
   validateMaterialUse(Settings, body);
   Settings.floor.normal.normalize();
-  const std::size_t n = body.points.size();
+  const std::size_t n = body.mesh.points.size();
   if (n == 0)
   {
     throw InvalidInputError("The input has no points.");
   }
-  if (body.tets.empty() && body.links.empty())
+  if (body.mesh.tets.empty() && body.links.empty())
   {
     throw InvalidInputError("PBD needs tetrahedra or line cells (links) to hold the particles "
                             "together; the input has neither.");
   }
-  for (const Vec3& p : body.points)
+  for (const Vec3& p : body.mesh.points)
   {
     if (!p.allFinite())
     {
@@ -171,7 +171,7 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   }
   if (Settings.stepControl == StepControl::ErrorControlled)
   {
-    if (const std::string problem = errorToleranceProblem(Settings.errorTolerance, body.points); !problem.empty())
+    if (const std::string problem = errorToleranceProblem(Settings.errorTolerance, body.mesh.points); !problem.empty())
     {
       throw InvalidInputError(problem);
     }
@@ -180,9 +180,9 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   // Tets: the same validation as mass-spring (degenerate refused, inverted re-oriented or
   // refused by policy).
   Topology topology;
-  if (!body.tets.empty())
+  if (!body.mesh.tets.empty())
   {
-    TetMesh mesh{ body.points, std::move(body.tets) };
+    TetMesh mesh{ body.mesh.points, std::move(body.mesh.tets) };
     std::vector<std::string> meshWarnings;
     mesh = prepareTetMesh(std::move(mesh), Settings.invertedTets, meshWarnings);
     for (const std::string& w : meshWarnings)
@@ -233,7 +233,7 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   }
   for (const auto& e : Links.ends)
   {
-    const double length = (body.points[e[0]] - body.points[e[1]]).norm();
+    const double length = (body.mesh.points[e[0]] - body.mesh.points[e[1]]).norm();
     if (!(length > 0.0))
     {
       throw InvalidInputError("A link joins two coincident points (zero rest length); merge them first.");
@@ -248,17 +248,17 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   for (const Tet& t : Volumes.tets)
   {
     Volumes.restVolume.push_back(
-      signedTetVolume(body.points[t[0]], body.points[t[1]], body.points[t[2]], body.points[t[3]]));
+      signedTetVolume(body.mesh.points[t[0]], body.mesh.points[t[1]], body.mesh.points[t[2]], body.mesh.points[t[3]]));
   }
   Volumes.broken.assign(Volumes.size(), 0);
   Volumes.lambda.assign(Volumes.size(), 0.0);
   if (continuum && !Volumes.tets.empty())
   {
-    setUpTetElasticity(topology, body.points, body.material);
+    setUpTetElasticity(topology, body.mesh.points, body.material);
   }
   else if (fromMaterial && !Volumes.tets.empty())
   {
-    setComplianceFromElasticity(topology, body.points, body.material);
+    setComplianceFromElasticity(topology, body.mesh.points, body.material);
   }
 
   // Masses: given per point, or density times the tet volumes.
@@ -334,7 +334,7 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
   }
   // Points whose x, y and z a condition holds are kinematic (inverse mass 0), moved each
   // substep to where the condition puts them.
-  Conditions = BoundaryConditions(std::move(body.conditions), body.points, topology.tets, bodyMass, Warnings);
+  Conditions = BoundaryConditions(std::move(body.conditions), body.mesh.points, topology.tets, bodyMass, Warnings);
   Conditions.setMasses(mass);
   PointMass = mass; // held points keep their mass for the reactions (their inverse mass is 0)
   const std::vector<char> held = Conditions.fullyHeld();
@@ -352,7 +352,7 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
     if (pinned && !hardPins)
     {
       Attachments.particle.push_back(static_cast<std::int32_t>(i));
-      Attachments.target.push_back(body.points[i]);
+      Attachments.target.push_back(body.mesh.points[i]);
     }
   }
   Attachments.lambda.assign(Attachments.size(), 0.0);
@@ -385,7 +385,7 @@ PbdSimulation::PbdSimulation(PbdBody body, const PbdSettings& settings)
     storeLinksAndVolumesInStreams();
   }
 
-  Rest = std::move(body.points);
+  Rest = std::move(body.mesh.points);
   State.positions = Rest;
   State.velocities.assign(n, Vec3::Zero());
   Conditions.holdPoints(0.0, State.positions, State.velocities);

@@ -61,8 +61,8 @@ void runChunks(std::size_t count, const ChunkBody& chunkBody)
 }
 } // namespace detail
 
-template <typename Body>
-void parallelFor(std::size_t count, std::size_t /*grain*/, const Body& body)
+template <typename Function>
+void parallelFor(std::size_t count, std::size_t /*grain*/, const Function& body)
 {
   detail::runChunks(count, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
@@ -72,8 +72,8 @@ void parallelFor(std::size_t count, std::size_t /*grain*/, const Body& body)
   });
 }
 
-template <typename Body>
-void parallelForContiguous(std::size_t count, std::size_t grain, const Body& body)
+template <typename Function>
+void parallelForContiguous(std::size_t count, std::size_t grain, const Function& body)
 {
   parallelFor(count, grain, body); // already one contiguous chunk per thread
 }
@@ -106,8 +106,8 @@ T parallelReduce(std::size_t count, std::size_t /*grain*/, T identity, const Map
 
 #else
 
-template <typename Body>
-void parallelFor(std::size_t count, std::size_t grain, const Body& body)
+template <typename Function>
+void parallelFor(std::size_t count, std::size_t grain, const Function& body)
 {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, grain),
     [&](const tbb::blocked_range<std::size_t>& range) {
@@ -124,8 +124,8 @@ void parallelFor(std::size_t count, std::size_t grain, const Body& body)
 /// constraint graph sorted by vertex: each core keeps touching the same part of the vertices,
 /// so they stay in its cache instead of moving between the cores every color, and two threads
 /// never interleave writes to neighbouring vertices. Ranges below 2 grains run on the caller.
-template <typename Body>
-void parallelForContiguous(std::size_t count, std::size_t grain, const Body& body)
+template <typename Function>
+void parallelForContiguous(std::size_t count, std::size_t grain, const Function& body)
 {
   if (count < 2 * grain)
   {

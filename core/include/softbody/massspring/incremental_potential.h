@@ -188,8 +188,8 @@ public:
 private:
   void addElementBlock(std::size_t i, const std::vector<Vec3>& y, Vec3& gradient, Mat3& hessian) const override;
   /// body(family, data) for each family, in the model's order, reading only.
-  template <class Body>
-  void forEachFamilyConst(Body&& body) const
+  template <class Function>
+  void forEachFamilyConst(Function&& body) const
   {
     const Families families = Elements.families();
     [&]<std::size_t... I>(std::index_sequence<I...>) {
@@ -219,8 +219,8 @@ private:
   static constexpr std::size_t kFamilyCount = std::tuple_size_v<Families>;
 
   /// body(family, data) for each family, in the model's order.
-  template <class Body>
-  void forEachFamily(Body&& body)
+  template <class Function>
+  void forEachFamily(Function&& body)
   {
     const Families families = Elements.families();
     [&]<std::size_t... I>(std::index_sequence<I...>) {

@@ -13,11 +13,8 @@
 namespace softbody
 {
 
-/// The body with its points renumbered and its tets ordered by `reordering` (pins follow).
-BodyDescription reorderBody(const BodyDescription& body, const Reordering& reordering);
-
 /// Builds a stepper from a body (the CPU or the GPU one); may return null (no GPU context).
-using MassSpringFactory = std::function<std::unique_ptr<Simulation>(BodyDescription)>;
+using MassSpringFactory = std::function<std::unique_ptr<Simulation>(Body)>;
 
 /// `make` on the body reordered by `ordering` (points, and tets by their points), wrapped in a
 /// ReorderedSimulation so every output is in the input's order; `make(body)` itself for
@@ -25,11 +22,11 @@ using MassSpringFactory = std::function<std::unique_ptr<Simulation>(BodyDescript
 /// inverted tets names an input cell; a body that anything refuses is built again as given, so
 /// the refusal (InvalidInputError) is exactly the one the unreordered stepper gives.
 /// Returns null where `make` does.
-std::unique_ptr<Simulation> buildReorderedMassSpring(BodyDescription body,
+std::unique_ptr<Simulation> buildReorderedMassSpring(Body body,
   const SceneSettings& scene, VertexOrdering ordering, const MassSpringFactory& make);
 
 /// The CPU stepper (MassSpringSimulation) on the reordered body.
-std::unique_ptr<Simulation> makeMassSpringSimulation(BodyDescription body,
+std::unique_ptr<Simulation> makeMassSpringSimulation(Body body,
   const SceneSettings& scene, VertexOrdering ordering = kDefaultVertexOrdering);
 
 } // namespace softbody

@@ -1,4 +1,4 @@
-// What a mass-spring simulation is built from: the body (mesh, pins, material, conditions) and the scene
+// What a mass-spring simulation is built from besides its body (scene/body.h): the scene
 // settings (integrator, step, gravity, floor, strain limit). Immutable once the stepper is made.
 #pragma once
 
@@ -6,6 +6,7 @@
 #include "softbody/integrators/explicit_integrators.h"
 #include "softbody/material/material.h"
 #include "softbody/mesh/tet_mesh.h"
+#include "softbody/scene/body.h"
 #include "softbody/scene/conditions.h"
 #include "softbody/scene/scene.h"
 
@@ -64,15 +65,6 @@ struct SceneSettings : Scene
   double divergenceStretch = 100.0;
   ImplicitSettings implicit;
   bool operator==(const SceneSettings&) const = default;
-};
-
-struct BodyDescription
-{
-  TetMesh mesh;
-  std::vector<char> pinned; ///< empty, or one flag per mesh point (nonzero: pinned)
-  MaterialSettings material;
-  /// Loads and boundary conditions on sets of the mesh's points (pins are Fixed ones too).
-  std::vector<Condition> conditions;
 };
 
 } // namespace softbody

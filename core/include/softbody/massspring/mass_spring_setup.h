@@ -38,7 +38,7 @@ struct MassSpringSetup
 };
 
 /// Validates and prepares the body; throws InvalidInputError with a user-facing message.
-MassSpringSetup prepareMassSpring(BodyDescription body, const SceneSettings& scene);
+MassSpringSetup prepareMassSpring(Body body, const SceneSettings& scene);
 
 /// Initial state: rest positions, zero velocities, time 0.
 DynamicState restState(const MassSpringSetup& setup);

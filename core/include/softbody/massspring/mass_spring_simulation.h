@@ -27,7 +27,7 @@ class MassSpringSimulation final : public Simulation
 {
 public:
   /// Validates and prepares the body; throws InvalidInputError with a user-facing message.
-  MassSpringSimulation(BodyDescription body, const SceneSettings& scene);
+  MassSpringSimulation(Body body, const SceneSettings& scene);
   // The implicit steppers keep references to this object's topology and constants.
   MassSpringSimulation(const MassSpringSimulation&) = delete;
   MassSpringSimulation& operator=(const MassSpringSimulation&) = delete;

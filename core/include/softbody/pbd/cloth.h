@@ -3,7 +3,7 @@
 // fraction of the structural stiffness.
 #pragma once
 
-#include "softbody/pbd/pbd_simulation.h" // PbdBody
+#include "softbody/pbd/pbd_simulation.h" // Body
 
 namespace softbody
 {
@@ -32,6 +32,6 @@ struct ClothSpec
 /// Point (i, j), i along point1 and j along point2, has index j * particlesAlong1 + i. Links:
 /// all structural links first (along 1, then along 2), then the diagonals. Its surface
 /// triangles (two per cell) are what it collides through.
-PbdBody makeCloth(const ClothSpec& spec);
+Body makeCloth(const ClothSpec& spec);
 
 } // namespace softbody

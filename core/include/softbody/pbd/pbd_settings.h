@@ -67,7 +67,7 @@ struct PbdSettings : Scene
   ConstraintMaterial attachments; ///< soft pins: compliance in m/N
 
   /// XPBD only: the Spring Network's tet edges and volumes take their compliances from the
-  /// body's material (PbdBody::material: Young's modulus, Poisson's ratio, per tet or uniform)
+  /// body's material (Body::material: Young's modulus, Poisson's ratio, per tet or uniform)
   /// as the mass-spring model derives its stiffnesses (k_D = 15 mu V_e, k_V = (lambda - mu) V_t,
   /// material.h), so both methods minimize the same elastic energy; otherwise `links` and
   /// `volumes` give them. A continuum model always takes its tets' deviatoric and hydrostatic

@@ -9,7 +9,7 @@
 #include "softbody/common/simulation.h"
 #include "softbody/material/tet_elasticity.h"
 #include "softbody/mesh/topology.h"
-#include "softbody/pbd/pbd_body.h"
+#include "softbody/scene/body.h"
 #include "softbody/pbd/pbd_contact_kernels.h"
 #include "softbody/pbd/pbd_constraints.h"
 #include "softbody/pbd/pbd_settings.h"
@@ -35,7 +35,7 @@ class PbdSimulation final : public Simulation
 {
 public:
   /// Validates and prepares; throws InvalidInputError with a user-facing message.
-  PbdSimulation(PbdBody body, const PbdSettings& settings);
+  PbdSimulation(Body body, const PbdSettings& settings);
 
   AdvanceStatus advance(double endTime, const ProgressCallback& progress = {}) override;
   /// The state; plastic rest lengths and broken flags are copied into it only when asked for.

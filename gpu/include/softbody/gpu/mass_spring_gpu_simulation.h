@@ -12,7 +12,7 @@
 // stepper, one simulation is used from one thread at a time.
 #pragma once
 
-#include "softbody/massspring/mass_spring_simulation.h" // BodyDescription, SceneSettings
+#include "softbody/massspring/mass_spring_simulation.h" // Body, SceneSettings
 #include "softbody/common/simulation.h"
 
 #include <memory>
@@ -36,7 +36,7 @@ class MassSpringGpuSimulation final : public Simulation
 public:
   /// Throws InvalidInputError for a body or settings core refuses (same messages as the CPU
   /// stepper) and GpuUnavailableError when no suitable GPU context can be made.
-  MassSpringGpuSimulation(const BodyDescription& body, const SceneSettings& scene);
+  MassSpringGpuSimulation(const Body& body, const SceneSettings& scene);
   ~MassSpringGpuSimulation() override;
   MassSpringGpuSimulation(const MassSpringGpuSimulation&) = delete;
   MassSpringGpuSimulation& operator=(const MassSpringGpuSimulation&) = delete;
@@ -66,7 +66,7 @@ private:
   struct Prepared;
   void checkDivergence(double maxStretch, bool finiteVelocities) const;
 
-  std::unique_ptr<Prepared> Body; // core's set-up: host-side, immutable
+  std::unique_ptr<Prepared> Host; // core's set-up: host-side, immutable
   mutable DynamicState State;     // host copy; positions/velocities stale when HostStale
   mutable bool HostStale = false;
   DivergenceProbe LastProbe; // of the last batch of steps
@@ -82,6 +82,6 @@ private:
 /// (no EGL vendor or device, no OpenGL 4.3, ...). Invalid input still throws
 /// InvalidInputError, as the CPU stepper would.
 std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(
-  const BodyDescription& body, const SceneSettings& scene, std::string& whyNot);
+  const Body& body, const SceneSettings& scene, std::string& whyNot);
 
 } // namespace softbody::gpu
