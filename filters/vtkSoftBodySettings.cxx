@@ -22,6 +22,18 @@ int Choice(const char* name, int value, int count, const char* choices)
   return value;
 }
 
+/// "0 (Spring Network), 1 (Corotated), ...": the refusal's list, from core's own names.
+std::string MaterialModelChoices()
+{
+  std::string choices;
+  for (int m = 0; m < int(softbody::MaterialModel::Count); ++m)
+  {
+    choices += (m > 0 ? ", " : "") + std::to_string(m) + " (" +
+      softbody::materialModelName(static_cast<softbody::MaterialModel>(m)) + ")";
+  }
+  return choices;
+}
+
 softbody::MassDistribution CoreMassDistribution(int value)
 {
   return Choice("MassDistribution", value, 2, "0 (average incident volume), 1 (lumped volume)") ==
@@ -253,7 +265,7 @@ softbody::MaterialSettings vtkSoftBodySettings::Material(const vtkSoftBodyFilter
       vtkSoftBodyFilter::STABLE_NEO_HOOKEAN == int(softbody::MaterialModel::StableNeoHookean),
     "the MaterialModel property's values must be core's MaterialModel values");
   material.model = static_cast<softbody::MaterialModel>(Choice("MaterialModel", p.MaterialModel,
-    3, "0 (Spring Network), 1 (Corotated), 2 (Stable Neo-Hookean)"));
+    int(softbody::MaterialModel::Count), MaterialModelChoices().c_str()));
   if (Choice("MaterialMode", p.MaterialMode, 2, "0 (physical), 1 (raw constants)") ==
     vtkSoftBodyFilter::RAW_CONSTANTS)
   {

@@ -2,6 +2,7 @@
 
 #include "softbody/common/errors.h"
 #include "softbody/common/validation.h"
+#include "softbody/material/elastic_laws.h"
 
 #include <algorithm>
 #include <cmath>
@@ -133,16 +134,11 @@ void validateCells(const MaterialSettings& material, std::size_t tetCount,
 
 const char* materialModelName(MaterialModel model)
 {
-  switch (model)
+  if (!isContinuum(model))
   {
-    case MaterialModel::SpringNetwork:
-      return "Spring Network";
-    case MaterialModel::Corotated:
-      return "Corotated";
-    case MaterialModel::StableNeoHookean:
-      return "Stable Neo-Hookean";
+    return "Spring Network";
   }
-  return "unknown";
+  return withElasticLaw(model, [](auto law) { return decltype(law)::kName; });
 }
 
 void validateMaterial(const MaterialSettings& material, std::vector<std::string>& warnings,

@@ -29,8 +29,7 @@
 // with 1/8 instead of 1/4 it goes negative). kH >= 0 needs nu >= -1/2.
 #pragma once
 
-#include "softbody/material/isotropic_elasticity.h"
-#include "softbody/material/material.h"
+#include "softbody/material/elastic_laws.h"
 
 #include <cmath>
 
@@ -110,8 +109,7 @@ inline Mat3 cofactor(const Mat3& f)
 /// nothing beside the constraint's own cost (an SVD for Corotated).
 inline DeviatoricConstraint deviatoricConstraint(MaterialModel model, const Mat3& f)
 {
-  return model == MaterialModel::StableNeoHookean ? ConstraintForm<StableNeoHookeanLaw>::deviatoric(f)
-                                                  : ConstraintForm<CorotatedLaw>::deviatoric(f);
+  return withElasticLaw(model, [&](auto law) { return ConstraintForm<decltype(law)>::deviatoric(f); });
 }
 
 } // namespace softbody

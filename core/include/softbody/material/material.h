@@ -39,7 +39,8 @@ enum class MaterialModel
 {
   SpringNetwork,   ///< springs and volume terms (Teschner et al. 2004)
   Corotated,       ///< fixed corotated linear elasticity (Stomakhin et al. 2012)
-  StableNeoHookean ///< Stable Neo-Hookean (Smith, de Goes and Kim 2018)
+  StableNeoHookean, ///< Stable Neo-Hookean (Smith, de Goes and Kim 2018)
+  Count             ///< not a model: how many there are (a new one goes above it)
 };
 
 const char* materialModelName(MaterialModel model);

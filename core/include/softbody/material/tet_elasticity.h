@@ -16,6 +16,7 @@
 // The elastic Hessian is projected exactly from its closed-form eigensystem.
 #pragma once
 
+#include "softbody/material/elastic_laws.h"
 #include "softbody/material/element_model.h"
 #include "softbody/material/isotropic_elasticity.h"
 #include "softbody/material/material.h"
@@ -229,16 +230,5 @@ private:
 
 static_assert(ElementFamily<TetElasticFamily<CorotatedLaw>>);
 static_assert(ElementModel<TetElasticModel<StableNeoHookeanLaw>>);
-
-/// f(Law{}) with the law of a continuum model, chosen once (not per element).
-template <class Function>
-decltype(auto) withElasticLaw(MaterialModel model, Function&& function)
-{
-  if (model == MaterialModel::StableNeoHookean)
-  {
-    return function(StableNeoHookeanLaw{});
-  }
-  return function(CorotatedLaw{});
-}
 
 } // namespace softbody
