@@ -34,7 +34,8 @@ std::unique_ptr<ImplicitIntegrator> makeImplicitIntegrator(const SceneSettings& 
       integrator = std::make_unique<VertexBlockDescentStepper>(topology, elements, masses, scene);
       break;
     case Integrator::Static:
-      integrator = std::make_unique<StaticStepper>(topology, elements, masses, restPositions, scene, positions);
+      integrator = std::make_unique<StaticStepper>(topology, elements, masses, restPositions, scene, positions,
+        conditions);
       break;
     default:
       throw std::logic_error(std::string("makeImplicitIntegrator: ") +

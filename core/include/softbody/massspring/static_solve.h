@@ -4,12 +4,14 @@
 // engineer checks a model with and the accuracy lab's reference. Velocities are zero.
 //
 // A free body has no equilibrium (gravity accelerates it; without gravity any rigid motion of
-// an equilibrium is another), so the body must be held by fixed points that stop every rigid
-// motion: at least three not on one line. The floor alone does not hold it (a body on a
+// an equilibrium is another), so the body must be held by supports that stop every rigid
+// motion: at least three fixed points not on one line, or rollers (some components held) on
+// planes that together do, as symmetry planes in a finite-element model. The floor alone does not hold it (a body on a
 // frictionless plane slides, and friction is a history the static solve does not have).
 #pragma once
 
 #include "softbody/massspring/implicit_euler.h"
+#include "softbody/scene/boundary_conditions.h"
 
 #include <memory>
 #include <string>
@@ -17,9 +19,11 @@
 namespace softbody
 {
 
-/// Empty when the fixed points (inverse mass 0) hold the body; else the reason it is not held,
-/// quoting the count, for the user.
-std::string staticHoldProblem(const std::vector<Vec3>& positions, const PointMasses& masses);
+/// Empty when the supports (points of inverse mass 0, and the held components `heldAxes` gives
+/// per point, which may be empty) stop every rigid motion; else the reason, naming a motion
+/// they leave free and quoting their counts, for the user.
+std::string staticHoldProblem(const std::vector<Vec3>& positions, const PointMasses& masses,
+  const std::vector<AxisMask>& heldAxes);
 
 class StaticStepper final : public ImplicitIntegrator
 {
@@ -27,7 +31,7 @@ public:
   /// Throws InvalidInputError when the body is not held (staticHoldProblem).
   StaticStepper(const Topology& topology, const BodyElements& elements,
     const PointMasses& masses, const std::vector<Vec3>& restPositions, const SceneSettings& scene,
-    const std::vector<Vec3>& positions);
+    const std::vector<Vec3>& positions, const BoundaryConditions* conditions);
 
   void step(double h, DynamicState& state, StepPlan& plan) override;
   const ImplicitConvergence& convergence() const override { return Newton->convergence(); }
