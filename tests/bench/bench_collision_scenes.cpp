@@ -11,7 +11,7 @@
 //    Self.
 // 4. Ten tori (tenToriScene): stacked into a pile, against the same bodies apart.
 // 3. Tori: two TetGen tori (~3,000 points each, data/torus.vtp's shape) on the floor, the upper
-//    one placed 0.25 m into the lower one (issue 26: an overlapping start), against the same
+//    one placed 0.25 m into the lower one (an overlapping start), against the same
 //    pair placed 1 mm apart, which lands on each other; XPBD defaults, 0.05 s frames,
 //    Collisions = Obstacles + Bodies. The overlapping pair must cost about what the touching
 //    pair costs (the detection's candidates per point are bounded); the ratio is printed.

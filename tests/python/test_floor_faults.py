@@ -82,7 +82,7 @@ for label, props in [("XPBD defaults", dict(Method="XPBD")),
     lowest = builtins.min(float(sbt.points_of(sbt.output_at(body, t))[:, 2].min()) for t in (0.04, 0.2))
     check_inversion_report(body, found, label, "Raise Substeps")
     print(f"(a) {label}: ellipsoid of {count} tets resting on the floor: {found[0]} inverted after "
-          f"0.04 s, {found[1]} after 0.2 s (issue 14: 2,704 and 9,200); lowest point z = {lowest:.2e} m")
+          f"0.04 s, {found[1]} after 0.2 s; lowest point z = {lowest:.2e} m")
     if "2 iterations" in label:
         # Far from converged: some tets stay inverted, which is what the report is for.
         sbt.check(found[1] > 0, f"(a) {label}: the under-iterated solve leaves inverted tets to report")

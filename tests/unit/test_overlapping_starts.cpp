@@ -1,4 +1,4 @@
-// Bodies started inside each other (issue 26, item 3): the set-up warning quotes how many
+// Bodies started inside each other: the set-up warning quotes how many
 // points and how deep; the run steps with a bounded number of candidates and contacts per
 // point (the cost stays with the contact surface), pushes the bodies apart no faster than
 // kStartOverlapSeparationSpeed, and gives the same result at 1 and 2 threads.

@@ -1,5 +1,5 @@
 // Two TetGen tori stacked along z, the upper one placed `overlap` metres into the lower one
-// (issue 26: a placement mistake, or nested parts) or resting `overlap` < 0 above it: the
+// (a placement mistake, or nested parts) or resting `overlap` < 0 above it: the
 // overlapping-start tests and bench_collision_scenes. The tori are those of data/torus.vtp
 // (ring radius 0.20 m, tube radius 0.08 m, tilted 30 degrees about x, a 48 x 24 grid), made
 // here so that no file has to be read.
