@@ -54,12 +54,16 @@ public:
 
   ///@{
   /**
-   * Material, exactly as in vtkSoftBodyFilter: MaterialMode PHYSICAL (0, default) uses
+   * Material, exactly as in vtkSoftBodyFilter: MaterialModel SPRING_NETWORK (0, default),
+   * COROTATED (1) or STABLE_NEO_HOOKEAN (2), whose stable step the report gives (the
+   * finite-element models' from their rest stiffness, as the Soft Body filter's set-up);
+   * MaterialMode PHYSICAL (0, default) uses
    * YoungsModulus [Pa], PoissonRatio [-], Density [kg/m^3] and DampingTime [s]; RAW_CONSTANTS
    * (1) uses DistanceStiffness [J], DistanceDamping [J s], VolumeStiffness [J], VolumeDamping
    * [J s] and TotalMass [kg]. MassDistribution: AVERAGE_INCIDENT_VOLUME (0, default) or
    * LUMPED_VOLUME (1).
    */
+  vtkSoftBodyParameterMacro(MaterialModel, int);
   vtkSoftBodyParameterMacro(MaterialMode, int);
   vtkSoftBodyParameterMacro(YoungsModulus, double);
   vtkSoftBodyParameterMacro(PoissonRatio, double);

@@ -196,10 +196,17 @@ TEST(MeshQuality, InverseMassesAndStableStepsMatchTheSimulation)
 {
   TetMesh mesh = boxWithTinyCorner();
   std::swap(mesh.tets[7][0], mesh.tets[7][1]); // one inverted tet: Reorient must agree
-  for (auto scheme : { MassDistribution::AverageIncidentVolume, MassDistribution::LumpedVolume })
+  // Every material model: the finite-element models' step comes from their own stiffness, as
+  // the set-up's does (and differs from the network's on the same mesh, checked below).
+  for (auto [scheme, model] : { std::pair{ MassDistribution::AverageIncidentVolume, MaterialModel::SpringNetwork },
+         std::pair{ MassDistribution::LumpedVolume, MaterialModel::SpringNetwork },
+         std::pair{ MassDistribution::LumpedVolume, MaterialModel::Corotated },
+         std::pair{ MassDistribution::AverageIncidentVolume, MaterialModel::StableNeoHookean } })
   {
+    SCOPED_TRACE(materialModelName(model));
     MaterialSettings material = rubber();
     material.massDistribution = scheme;
+    material.model = model;
     const MassSpringQualityReport r = computeMassSpringQuality(mesh, material, Integrator::Midpoint);
     EXPECT_EQ(r.invertedTets, 1u);
 
@@ -222,6 +229,10 @@ TEST(MeshQuality, InverseMassesAndStableStepsMatchTheSimulation)
     EXPECT_DOUBLE_EQ(r.truncatedStableTimeStep, truncated.estimatedStableStep());
     EXPECT_DOUBLE_EQ(r.truncatedTotalMass, truncated.totalMass());
   }
+  MaterialSettings corotated = rubber();
+  corotated.model = MaterialModel::Corotated;
+  EXPECT_NE(computeMassSpringQuality(mesh, corotated, Integrator::Midpoint).stableTimeStep,
+    computeMassSpringQuality(mesh, rubber(), Integrator::Midpoint).stableTimeStep);
 }
 
 TEST(MeshQuality, SuggestedTruncationRaisesTheStableStep)

@@ -70,9 +70,7 @@ void chooseStep(MassSpringSetup& s)
 {
   const SceneSettings& scene = s.scene;
   const ElementConstants& c = s.constants;
-  s.omegaMax = isContinuum(s.model)
-    ? continuumFrequencyBound(s.topology, s.tetConstants, s.masses.inverseMass, s.mesh.points)
-    : highestFrequencyBound(s.topology, c, s.masses.inverseMass, s.mesh.points);
+  s.omegaMax = modelFrequencyBound(s.model, s.topology, c, s.tetConstants, s.masses.inverseMass, s.mesh.points);
   if (isImplicit(scene.integrator))
   {
     // Stable at any step: automatic means one step per advance() call (per frame in the

@@ -112,4 +112,11 @@ double continuumFrequencyBound(const Topology& topology, const TetElasticConstan
   return lanczos.upperOmega > 0.0 ? std::min(gershgorin, kDeformationMargin * lanczos.upperOmega) : gershgorin;
 }
 
+double modelFrequencyBound(MaterialModel model, const Topology& topology, const ElementConstants& network,
+  const TetElasticConstants& tets, const std::vector<double>& inverseMass, const std::vector<Vec3>& restPositions)
+{
+  return isContinuum(model) ? continuumFrequencyBound(topology, tets, inverseMass, restPositions)
+                            : highestFrequencyBound(topology, network, inverseMass, restPositions);
+}
+
 } // namespace softbody

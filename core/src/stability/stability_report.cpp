@@ -3,6 +3,7 @@
 #include "softbody/common/errors.h"
 #include "softbody/material/mass.h"
 #include "softbody/common/parallel.h"
+#include "softbody/stability/element_frequency.h"
 #include "softbody/stability/stability.h"
 #include "softbody/mesh/topology.h"
 
@@ -180,9 +181,14 @@ void estimateDynamics(const TetMesh& mesh, const std::vector<char>& usable,
     restVolume += v;
   }
   const double totalMass = totalMassOf(untruncated, restVolume);
+  TetElasticConstants tetConstants;
+  if (isContinuum(material.model))
+  {
+    tetConstants = computeTetElasticConstants(topology, body.points, untruncated, constantWarnings);
+  }
 
   auto stepFor = [&](const PointMasses& masses, double& omega) {
-    omega = highestFrequencyBound(topology, constants, masses.inverseMass, body.points);
+    omega = modelFrequencyBound(material.model, topology, constants, tetConstants, masses.inverseMass, body.points);
     return stableTimeStep(integrator, omega, constants.minDampingTime, constants.maxDampingTime);
   };
 

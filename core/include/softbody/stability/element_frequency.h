@@ -31,4 +31,10 @@ LanczosFrequency continuumLanczosEstimate(const Topology& topology, const TetEla
 double continuumFrequencyBound(const Topology& topology, const TetElasticConstants& constants,
   const std::vector<double>& inverseMass, const std::vector<Vec3>& restPositions);
 
+/// The body's omega_max [rad/s] for its model: continuumFrequencyBound for the finite-element
+/// models (`tets` their constants), highestFrequencyBound for the spring network. The set-up's
+/// step and Mesh Quality's report both come from here, so they agree.
+double modelFrequencyBound(MaterialModel model, const Topology& topology, const ElementConstants& network,
+  const TetElasticConstants& tets, const std::vector<double>& inverseMass, const std::vector<Vec3>& restPositions);
+
 } // namespace softbody
