@@ -417,8 +417,9 @@ TEST(MassSpringCollisions, ImplicitIntegratorsLandABodyOnABodyWithoutCrushingEit
   // onto the floor at 1/60 s steps with the filter's default friction: the lower lands, the
   // upper lands on it at about 2.5 m/s and slides off it (tan 30 deg > 0.3), as it does under
   // Euler-Cromer. Each body's points are held in the solve on the other's faces where its
-  // prediction puts them (contact_planes.h); projected out of each other only after the step,
-  // the landing body crushes the tets between.
+  // prediction puts them (contact_planes.h), and the pushes that hold them load those faces in
+  // the step's further solves (implicit_solve.cpp); projected out of each other only after the
+  // step, the landing body crushes the tets between.
   const test::TorusPair pair = test::torusPair(-0.001, 1e-4);
   for (Integrator integrator : { Integrator::ImplicitEuler, Integrator::ProjectiveDynamics })
   {
@@ -442,8 +443,9 @@ TEST(MassSpringCollisions, ImplicitIntegratorsLandABodyOnABodyWithoutCrushingEit
         std::count_if(ratios.begin(), ratios.end(), [](double r) { return r <= 0.0; })));
     }
     std::printf("  %s: at most %zu of %zu tets inverted in a frame\n", integratorName(integrator), worst, tets);
-    // Measured 127 (Implicit Euler) and 142 (Projective Dynamics); Euler-Cromer at its stable step 1.
-    EXPECT_LE(worst, 3 * tets / 100) << integratorName(integrator);
+    // Measured 12 (Implicit Euler) and 24 (Projective Dynamics); 127 and 142 with the other body
+    // unloaded in the solve; Euler-Cromer at its stable step 1.
+    EXPECT_LE(worst, tets / 100) << integratorName(integrator);
   }
 }
 

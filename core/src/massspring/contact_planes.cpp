@@ -25,6 +25,22 @@ void ContactPlanes::reset(std::size_t pointCount)
   PlaneOf.assign(pointCount, Floor ? 0 : -1);
 }
 
+void ContactPlanes::followBodies(const std::vector<Vec3>& x)
+{
+  for (ContactPlane& plane : Planes)
+  {
+    if (plane.onBody())
+    {
+      Vec3 face = Vec3::Zero();
+      for (std::size_t k = 0; k < 3; ++k)
+      {
+        face += plane.weights(static_cast<Eigen::Index>(k)) * x[static_cast<std::size_t>(plane.corners[k])];
+      }
+      plane.origin = face + plane.lift;
+    }
+  }
+}
+
 double ContactPlanes::depth(std::size_t i, const Vec3& x) const
 {
   if (PlaneOf[i] < 0)
@@ -60,7 +76,8 @@ std::optional<ContactPlane> planeOf(const Contact& c, const std::vector<Vec3>& p
     closest += c.barycentric[k] * predicted[corner];
     velocity += c.barycentric[k] * velocities[corner];
   }
-  return ContactPlane{ closest + c.thickness * c.normal, c.normal, velocity };
+  return ContactPlane{ closest + c.thickness * c.normal, c.normal, velocity, c.other,
+    Vec3(c.barycentric[0], c.barycentric[1], c.barycentric[2]), c.thickness * c.normal };
 }
 
 /// Whether the point started in front of the contact's surface (where it was at the start).

@@ -24,6 +24,11 @@ constexpr double kHoldFraction = 1e-3;
 /// Direction solves per iteration while new points get held (then the line search's ratio
 /// test takes care of the rest).
 constexpr int kMaxHoldSolves = 3;
+/// Solves with the loads of bodies' contacts carried over (see step()). Two: on two TetGen tori
+/// landing on each other at 1/60 s the most tets inverted in a frame fell from 127 (Implicit
+/// Euler; 142 Projective Dynamics) without them to 29 (47) with one, 12 (24) with two; more
+/// passes neither settle nor help (the exchange of pushes and faces is not a contraction).
+constexpr int kBodyContactPasses = 2;
 /// Step halvings tried along the path bent by the contacts before the straight one.
 constexpr int kBentHalvings = 8;
 /// The most friction may move a point after the solve, as a fraction of its elements' size
@@ -383,10 +388,69 @@ void ImplicitStepSolver::solve(double h, const DynamicState& state, StepPlan& pl
 
 }
 
+bool ImplicitStepSolver::carryBodyContactLoads()
+{
+  // A point held on another body's face is pushed by it with the normal part of Phi's gradient
+  // at the solution (a stuck one with all of it); that body's face takes the opposite force,
+  // spread over its corners by the point's barycentric weights.
+  std::vector<Vec3> loads;
+  for (std::size_t i = 0; i < X.size(); ++i)
+  {
+    const bool held = Filter.motion[i] == PointMotion::OnPlane || Stuck[i];
+    if (!held || !Planes.has(i) || !Planes.of(i).onBody())
+    {
+      continue;
+    }
+    const ContactPlane& plane = Planes.of(i);
+    const Vec3 push = Stuck[i] ? Gradient[i] : Vec3(std::max(0.0, Gradient[i].dot(plane.normal)) * plane.normal);
+    if (push.isZero())
+    {
+      continue;
+    }
+    loads.resize(X.size(), Vec3::Zero());
+    for (int k = 0; k < 3; ++k)
+    {
+      loads[static_cast<std::size_t>(plane.corners[static_cast<std::size_t>(k)])] -= plane.weights(k) * push;
+    }
+  }
+  if (loads.empty())
+  {
+    return false;
+  }
+  Potential.setContactLoads(std::move(loads));
+  return true;
+}
+
+void ImplicitStepSolver::solveAgain(double h, const DynamicState& state, StepPlan& plan,
+  const DirectionRule& rule, ImplicitConvergence& c)
+{
+  // The step's report covers every solve: their iterations, and one residual history with a
+  // row per iteration (a later solve's starting residual is left out).
+  const int earlierIterations = c.iterations;
+  std::vector<double> history = std::move(c.residualHistory);
+  solve(h, state, plan, rule, c);
+  c.iterations += earlierIterations;
+  history.insert(history.end(), c.residualHistory.begin() + 1, c.residualHistory.end());
+  c.residualHistory = std::move(history);
+}
+
 void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
   const DirectionRule& rule, ImplicitConvergence& c)
 {
   solve(h, state, plan, rule, c);
+  // Bodies against bodies: each point is held on the other body's face where that body's
+  // prediction puts it, which stops the point but leaves the other body unloaded in this
+  // solve; projected apart after the step, a body landing on another crushes the tets between
+  // them and the floor. So the holding pushes are carried to the faces they push on and the
+  // step solved again with them as loads and with the planes moved to where the faces went;
+  // kBodyContactPasses times (friction's solve below keeps the last loads).
+  bool carried = false;
+  for (int pass = 0; pass < kBodyContactPasses && contacts() && carryBodyContactLoads(); ++pass)
+  {
+    carried = true;
+    Planes.followBodies(X);
+    solveAgain(h, state, plan, rule, c);
+  }
   // The contact response. Friction moves a point by h times its velocity change, which the
   // rest of the body did not answer; where that is more than a small part of its elements
   // (kFrictionShiftFraction of their size), a sticking point is held where it began (on its
@@ -412,15 +476,12 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
   };
   if (respond() > 0)
   {
-    // The step's report covers both solves: their iterations, and one residual history with a
-    // row per iteration (the second solve's starting residual is left out).
-    const int firstIterations = c.iterations;
-    std::vector<double> history = std::move(c.residualHistory);
-    solve(h, state, plan, rule, c);
-    c.iterations += firstIterations;
-    history.insert(history.end(), c.residualHistory.begin() + 1, c.residualHistory.end());
-    c.residualHistory = std::move(history);
+    solveAgain(h, state, plan, rule, c);
     respond();
+  }
+  if (carried)
+  {
+    Potential.setContactLoads({});
   }
 
   c.residual = Residual / Reference;

@@ -55,9 +55,22 @@ void IncrementalPotential::beginStep(
 
 double IncrementalPotential::addLoadTerms(const std::vector<Vec3>& x, std::vector<Vec3>& gradient)
 {
+  double contact = 0.0;
+  if (!ContactLoad.empty())
+  {
+    parallelFor(x.size(), kVertexGrain, [&](std::size_t i) {
+      if (Active[i])
+      {
+        gradient[i] -= ContactLoad[i];
+      }
+    });
+    contact = -parallelSum(x.size(), [&](std::size_t i) {
+      return Active[i] ? ContactLoad[i].dot(x[i] - X0[i]) : 0.0;
+    });
+  }
   if (!Conditions || !Conditions->hasLoads())
   {
-    return 0.0;
+    return contact;
   }
   PullForce.assign(x.size(), Vec3::Zero());
   const double pull = Conditions->hasPull() ? Conditions->addPullForces(EndTime, x, PullForce) : 0.0;
@@ -68,7 +81,7 @@ double IncrementalPotential::addLoadTerms(const std::vector<Vec3>& x, std::vecto
     }
   });
   // The dead load's work from x0, like gravity's: the same minimizer, small values.
-  return pull - parallelSum(x.size(), [&](std::size_t i) {
+  return contact + pull - parallelSum(x.size(), [&](std::size_t i) {
     return Active[i] ? DeadLoad[i].dot(x[i] - X0[i]) : 0.0;
   });
 }
@@ -118,6 +131,10 @@ void IncrementalPotential::vertexBlock(std::size_t i, const std::vector<Vec3>& y
     const double k = PullStiffness.empty() ? 0.0 : PullStiffness[i];
     gradient -= DeadLoad[i] + PullForce[i] - k * (y[i] - evaluated[i]);
     hessian += k * Mat3::Identity();
+  }
+  if (!ContactLoad.empty())
+  {
+    gradient -= ContactLoad[i];
   }
   addElementBlock(i, y, gradient, hessian);
 }

@@ -19,6 +19,7 @@
 #include "softbody/common/geometry.h"
 #include "softbody/mesh/topology.h"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -29,11 +30,18 @@ namespace softbody
 {
 
 /// The free side is (x - origin) . normal >= 0; `velocity` is the surface's, for friction.
+/// A plane standing for another body's face also names that face's corners and the point's
+/// barycentric weights on it: the push that holds the point is that body's load (Newton's third
+/// law), which the implicit solve carries over to it (implicit_solve.cpp).
 struct ContactPlane
 {
   Vec3 origin = Vec3::Zero();
   Vec3 normal = Vec3::UnitZ(); ///< unit length
   Vec3 velocity = Vec3::Zero(); ///< [m/s]
+  std::array<std::int32_t, 3> corners{ -1, -1, -1 }; ///< the other body's face; -1: none
+  Vec3 weights = Vec3::Zero();
+  Vec3 lift = Vec3::Zero(); ///< origin minus the face's point (the contact's thickness along normal)
+  bool onBody() const { return corners[0] >= 0; }
 };
 
 class ContactPlanes
@@ -69,6 +77,8 @@ public:
   bool has(std::size_t i) const { return PlaneOf[i] >= 0; }
   /// Point i's plane (has(i) must hold).
   const ContactPlane& of(std::size_t i) const { return Planes[static_cast<std::size_t>(PlaneOf[i])]; }
+  /// Moves every plane that stands for another body's face to where `x` has that face.
+  void followBodies(const std::vector<Vec3>& x);
   /// Signed distance of x to point i's plane [m]; +infinity when it has none.
   double depth(std::size_t i, const Vec3& x) const;
 

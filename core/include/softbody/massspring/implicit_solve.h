@@ -80,6 +80,12 @@ private:
   double filteredResidual(const std::vector<Vec3>& gradient, const std::vector<PointMotion>& motion);
   /// Whether some point has a contact plane.
   bool contacts() const { return !Planes.empty(); }
+  /// Sets the potential's contact loads from the points held on other bodies' faces; false
+  /// when there are none.
+  bool carryBodyContactLoads();
+  /// solve() once more, its iterations and residuals added to the step's report.
+  void solveAgain(double h, const DynamicState& state, StepPlan& plan, const DirectionRule& direction,
+    ImplicitConvergence& c);
   /// Puts the free points of `x` that lie behind their plane on it, held (OnPlane) in `motion`.
   std::size_t capture(std::vector<Vec3>& x, std::vector<PointMotion>& motion) const;
   /// Releases held points their plane would have to pull back, and stuck points whose force
