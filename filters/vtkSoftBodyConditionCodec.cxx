@@ -77,6 +77,40 @@ void vtkSoftBodyConditionCodec::Encode(const softbody::Condition& c, vtkFieldDat
 }
 
 //------------------------------------------------------------------------------
+void vtkSoftBodyConditionCodec::EncodeValuesOverTheRun(
+  const std::vector<std::vector<softbody::Condition>>& overTheRun, vtkFieldData* field)
+{
+  // The values a property holds, as Encode writes them (degrees, SI units): the arrays of one
+  // tuple of a fixed width. The kind, the held components, the spread and the profile's shape
+  // never change during a run (a change of them builds the simulation anew).
+  static const char* const kLive[] = { "Translation", "RotationAxis", "RotationCenter", "RotationAngle",
+    "Force", "Pressure", "PullTarget", "PullStiffness", "ProfileTime" };
+  if (overTheRun.empty())
+  {
+    return;
+  }
+  for (std::size_t c = 0; c < overTheRun.front().size(); ++c)
+  {
+    const std::string prefix = "ConditionValues " + overTheRun.front()[c].name + " ";
+    for (const char* property : kLive)
+    {
+      vtkNew<vtkDoubleArray> values;
+      values->SetName((prefix + property).c_str());
+      for (const std::vector<softbody::Condition>& conditions : overTheRun)
+      {
+        vtkNew<vtkFieldData> one;
+        Encode(conditions[c], one);
+        std::vector<double> tuple;
+        Values(one, property, tuple);
+        values->SetNumberOfComponents(static_cast<int>(tuple.size()));
+        values->InsertNextTuple(tuple.data());
+      }
+      field->AddArray(values);
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
 bool vtkSoftBodyConditionCodec::HasCondition(vtkFieldData* field)
 {
   return field && field->GetAbstractArray(kName) && field->GetArray(kKind);

@@ -11,6 +11,7 @@
 #include "softbody/scene/conditions.h"
 
 #include <string>
+#include <vector>
 
 class vtkFieldData;
 
@@ -21,6 +22,13 @@ void Encode(const softbody::Condition& condition, vtkFieldData* field);
 
 /// Whether `field` carries a condition (the output of a Soft Body Condition).
 bool HasCondition(vtkFieldData* field);
+
+/// Adds, per condition and per value a Soft Body Condition property holds (Translation,
+/// RotationAngle, Force, Pressure, PullTarget, PullStiffness, ...), an array named
+/// "ConditionValues NAME PROPERTY" with one tuple per entry of `overTheRun` (the values from
+/// frame 0, then after each change made during playback): what softbody.keyframes turns into
+/// animation keyframes, so a live session can be replayed and saved.
+void EncodeValuesOverTheRun(const std::vector<std::vector<softbody::Condition>>& overTheRun, vtkFieldData* field);
 
 /// Fills `condition` (its points left empty) from `field`; a message naming what is missing or
 /// malformed, empty on success.

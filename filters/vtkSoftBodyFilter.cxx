@@ -1,5 +1,6 @@
 #include "vtkSoftBodyFilter.h"
 
+#include "vtkSoftBodyConditionCodec.h"
 #include "vtkSoftBodyConditionInput.h"
 #include "vtkSoftBodyDistribution.h"
 #include "vtkSoftBodyFrameCache.h"
@@ -386,6 +387,8 @@ bool vtkSoftBodyFilter::AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData*
       times->InsertNextValue(time);
     }
     outputs.Mesh->GetFieldData()->AddArray(times);
+    vtkSoftBodyConditionCodec::EncodeValuesOverTheRun(internals.ConditionValuesOverTheRun(),
+      outputs.Mesh->GetFieldData());
   }
   vtkSoftBodyOutputAssembly::FillParticles(internals.Built, outputs.Mesh, outputs.Particles);
   vtkSoftBodyOutputAssembly::FillConvergence(internals.Built, outputs.Convergence);

@@ -234,6 +234,17 @@ std::vector<double> vtkSoftBodyFrameRunner::ConditionChangeTimes(double frameInt
 }
 
 //------------------------------------------------------------------------------
+std::vector<std::vector<softbody::Condition>> vtkSoftBodyFrameRunner::ConditionValuesOverTheRun() const
+{
+  std::vector<std::vector<softbody::Condition>> values;
+  for (const auto& epoch : this->ConditionEpochs)
+  {
+    values.push_back(epoch.second);
+  }
+  return values;
+}
+
+//------------------------------------------------------------------------------
 vtkSoftBodyFrameRunner::Result vtkSoftBodyFrameRunner::AdvanceTo(
   double t, const vtkSoftBodyParameters& p, const Hooks& hooks, unsigned long long& stepsTotal)
 {

@@ -77,6 +77,8 @@ public:
   /// When the conditions' values changed during the run (their widgets moved): the frame
   /// times from which each change applies (empty when they never changed).
   std::vector<double> ConditionChangeTimes(double frameInterval) const;
+  /// The conditions' values from frame 0 and after each of those changes, in that order.
+  std::vector<std::vector<softbody::Condition>> ConditionValuesOverTheRun() const;
 
   std::string RunWarning;     ///< the run to EndTime will take long (steps, time, remedies)
   /// The implicit steps will land the body on the floor faster than its elements can take
