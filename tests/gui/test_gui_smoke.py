@@ -6,8 +6,8 @@ or chart pane for Convergence, no particles over the mesh), the Mesh coloured by
 render view still the active view, the animation stepping through the filter's times, and no
 error or warning in the Output Messages window. A Pull condition on the jelly, made active so
 its panel builds its widgets, changed while the animation stands at a frame, is recorded from
-that frame on. Then the same Apply on a voxelized torus (with
-the torus as its Surface) and on the cloth, both under XPBD: the same two ports, still one view,
+that frame on, and softbody.keyframes turns the change into tracks. Then the same Apply on a
+voxelized torus (with the torus as its Surface) and on the cloth, both under XPBD: the same two ports, still one view,
 both bodies following the animation time.
 """
 import os
@@ -88,6 +88,12 @@ try:
     if changes is None or abs(changes.GetRange(0)[0] - times[3]) > 1e-9:
         failures.append("the pull moved at t = %g is not recorded from there (ConditionChangeTimes %s)"
                         % (times[3], changes.GetRange(0) if changes else None))
+    # Kept as keyframes from the GUI's Python Shell: a track per PullTarget component moved.
+    from softbody import keyframes
+    tracks = keyframes.record(held, [hand])
+    moved = sorted((t.AnimatedPropertyName, t.AnimatedElement) for t in tracks)
+    if moved != [("PullTarget", 0), ("PullTarget", 1), ("PullTarget", 2)]:
+        failures.append("keyframes.record made tracks %s, expected PullTarget's three components" % moved)
 
     # The two particle bodies, under XPBD: a voxelized surface given as its own
     # Surface, and the cloth. Apply shows the same two ports and opens no pane for either.
