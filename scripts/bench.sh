@@ -13,7 +13,8 @@
 #
 # A complete run (no scene named, not --quick, default output folder) then writes its tables
 # into docs/accuracy.md (scripts/update_docs_tables.py) with bench_error_control's, copies its
-# plots to docs/bench/, and runs bench_tet_elasticity, bench_collision, bench_collision_scenes, bench_implicit and bench_conditions, whose tables go into
+# plots to docs/bench/, and runs bench_tet_elasticity, bench_collision, bench_collision_scenes,
+# bench_implicit, bench_mass_spring and bench_conditions, whose tables go into
 # docs/performance.md.
 #
 # SOFTBODY_BENCH_OUT overrides output/bench; SOFTBODY_DATA_DIR the public meshes (../shared/data).
@@ -88,6 +89,10 @@ if [[ ${status} -eq 0 && ${quick} -eq 0 && ${scenes_given} -eq 0 && -z "${SOFTBO
   # docs/performance.md.
   "${SOFTBODY_BUILD_DIR}/bin/bench_implicit" --data "${data}" --mesh ellipsoid157k \
     --csv "${out}/implicit_solvers.csv" | tee "${out}/bench_implicit.log" || status=$?
+  # The mass-spring step on boxes and real meshes, in input and Morton order, into
+  # docs/performance.md.
+  "${SOFTBODY_BUILD_DIR}/bin/bench_mass_spring" --data "${data}" --repeat 3 --csv "${out}/mass_spring.csv" \
+    | tee "${out}/bench_mass_spring.log" || status=$?
   # What loads and boundary conditions cost per step, into docs/performance.md.
   "${SOFTBODY_BUILD_DIR}/bin/bench_conditions" --data "${data}" --csv "${out}/conditions.csv" \
     | tee "${out}/bench_conditions.log" || status=$?
