@@ -394,6 +394,25 @@ double cantileverTipDeflection(MaterialModel model, double poissonRatio, int cel
   return staticDrop(body, [&](const Vec3& p) { return p.x() > length - 1e-9; });
 }
 
+constexpr std::array<int, 3> kCantileverCells{ 2, 4, 8 };
+
+/// The tip deflection's relative error against Timoshenko's beam under its weight,
+///   q L^4 / (8 E I) + q L^2 / (2 kappa G A),  q = rho g A,  kappa = 10 (1 + nu) / (12 + 11 nu),
+/// on kCantileverCells cells across.
+std::array<double, 3> cantileverErrors(MaterialModel model, double poissonRatio, bool onRollers)
+{
+  const double h = 0.1, length = 5 * h, e = 1.0e8, rho = 1100.0, g = 9.81, nu = poissonRatio;
+  const double area = h * h, inertia = h * h * h * h / 12, q = rho * g * area;
+  const double shear = e / (2 * (1 + nu)), kappa = 10 * (1 + nu) / (12 + 11 * nu);
+  const double beam = q * std::pow(length, 4) / (8 * e * inertia) + q * length * length / (2 * kappa * shear * area);
+  std::array<double, 3> error{};
+  for (std::size_t k = 0; k < 3; ++k)
+  {
+    error[k] = cantileverTipDeflection(model, poissonRatio, kCantileverCells[k], onRollers) / beam - 1;
+  }
+  return error;
+}
+
 } // namespace
 
 TEST(ContinuumSolids, CantileverConvergesToTimoshenkoBeamTheory)
@@ -405,21 +424,15 @@ TEST(ContinuumSolids, CantileverConvergesToTimoshenkoBeamTheory)
   //   q L^4 / (8 E I) + q L^2 / (2 kappa G A),  q = rho g A,  kappa = 10 (1 + nu) / (12 + 11 nu).
   // At nu > 0 the clamped face also stops the section's lateral contraction there, which beam
   // theory ignores: the 3D body is stiffer by a few percent at this slenderness (L = 5 h).
-  const double h = 0.1, length = 5 * h, e = 1.0e8, rho = 1100.0, g = 9.81;
   for (MaterialModel model : kContinuumModels)
   {
     for (double nu : { 0.0, 0.3 })
     {
-      const double area = h * h, inertia = h * h * h * h / 12, q = rho * g * area;
-      const double shear = e / (2 * (1 + nu)), kappa = 10 * (1 + nu) / (12 + 11 * nu);
-      const double beam = q * std::pow(length, 4) / (8 * e * inertia) + q * length * length / (2 * kappa * shear * area);
-      std::array<double, 3> error{};
-      const std::array<int, 3> cells{ 2, 4, 8 };
+      const std::array<double, 3> error = cantileverErrors(model, nu, false);
       for (std::size_t k = 0; k < 3; ++k)
       {
-        error[k] = cantileverTipDeflection(model, nu, cells[k]) / beam - 1;
         std::printf("%s nu %.2f, %d cells across: tip deflection error %+.4e\n",
-          materialModelName(model), nu, cells[k], error[k]);
+          materialModelName(model), nu, kCantileverCells[k], error[k]);
       }
       const double finestOrder = std::log2(error[1] / error[2]);
       const double limit = error[2] + (error[2] - error[1]) / 3;
@@ -439,20 +452,11 @@ TEST(ContinuumSolids, CantileverOnRollersConvergesToBeamTheoryUntilLinearTetsLoc
   // nu = 0.45 linear tets lock in bending: the error still shrinks on every refinement, but the
   // finest mesh (8 cells across, 15,360 tets) is about 13 % stiff and the order is below 1.5,
   // so no limit is claimed there; a locking-free element (F-bar, quadratic tets) would be needed.
-  const double h = 0.1, length = 5 * h, e = 1.0e8, rho = 1100.0, g = 9.81;
   for (MaterialModel model : kContinuumModels)
   {
     for (double nu : { 0.0, 0.3, 0.45 })
     {
-      const double area = h * h, inertia = h * h * h * h / 12, q = rho * g * area;
-      const double shear = e / (2 * (1 + nu)), kappa = 10 * (1 + nu) / (12 + 11 * nu);
-      const double beam = q * std::pow(length, 4) / (8 * e * inertia) + q * length * length / (2 * kappa * shear * area);
-      std::array<double, 3> error{};
-      const std::array<int, 3> cells{ 2, 4, 8 };
-      for (std::size_t k = 0; k < 3; ++k)
-      {
-        error[k] = cantileverTipDeflection(model, nu, cells[k], true) / beam - 1;
-      }
+      const std::array<double, 3> error = cantileverErrors(model, nu, true);
       const double finestOrder = std::log2(error[1] / error[2]);
       const double limit = error[2] + (error[2] - error[1]) / 3;
       std::printf("%s nu %.2f on rollers: tip errors %+.4e %+.4e %+.4e, order on the two finest %.2f, "

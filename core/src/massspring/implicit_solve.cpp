@@ -393,7 +393,7 @@ bool ImplicitStepSolver::carryBodyContactLoads()
   // A point held on another body's face is pushed by it with the normal part of Phi's gradient
   // at the solution (a stuck one with all of it); that body's face takes the opposite force,
   // spread over its corners by the point's barycentric weights.
-  std::vector<Vec3> loads;
+  bool any = false;
   for (std::size_t i = 0; i < X.size(); ++i)
   {
     const bool held = Filter.motion[i] == PointMotion::OnPlane || Stuck[i];
@@ -407,18 +407,21 @@ bool ImplicitStepSolver::carryBodyContactLoads()
     {
       continue;
     }
-    loads.resize(X.size(), Vec3::Zero());
+    if (!any)
+    {
+      ContactLoads.assign(X.size(), Vec3::Zero()); // kept between steps: no allocation once sized
+      any = true;
+    }
     for (int k = 0; k < 3; ++k)
     {
-      loads[static_cast<std::size_t>(plane.corners[static_cast<std::size_t>(k)])] -= plane.weights(k) * push;
+      ContactLoads[static_cast<std::size_t>(plane.corners[static_cast<std::size_t>(k)])] -= plane.weights(k) * push;
     }
   }
-  if (loads.empty())
+  if (any)
   {
-    return false;
+    Potential.setContactLoads(&ContactLoads);
   }
-  Potential.setContactLoads(std::move(loads));
-  return true;
+  return any;
 }
 
 void ImplicitStepSolver::solveAgain(double h, const DynamicState& state, StepPlan& plan,
@@ -481,7 +484,7 @@ void ImplicitStepSolver::step(double h, DynamicState& state, StepPlan& plan,
   }
   if (carried)
   {
-    Potential.setContactLoads({});
+    Potential.setContactLoads(nullptr);
   }
 
   c.residual = Residual / Reference;

@@ -56,16 +56,17 @@ void IncrementalPotential::beginStep(
 double IncrementalPotential::addLoadTerms(const std::vector<Vec3>& x, std::vector<Vec3>& gradient)
 {
   double contact = 0.0;
-  if (!ContactLoad.empty())
+  if (ContactLoad)
   {
+    const std::vector<Vec3>& load = *ContactLoad;
     parallelFor(x.size(), kVertexGrain, [&](std::size_t i) {
       if (Active[i])
       {
-        gradient[i] -= ContactLoad[i];
+        gradient[i] -= load[i];
       }
     });
     contact = -parallelSum(x.size(), [&](std::size_t i) {
-      return Active[i] ? ContactLoad[i].dot(x[i] - X0[i]) : 0.0;
+      return Active[i] ? load[i].dot(x[i] - X0[i]) : 0.0;
     });
   }
   if (!Conditions || !Conditions->hasLoads())
@@ -132,9 +133,9 @@ void IncrementalPotential::vertexBlock(std::size_t i, const std::vector<Vec3>& y
     gradient -= DeadLoad[i] + PullForce[i] - k * (y[i] - evaluated[i]);
     hessian += k * Mat3::Identity();
   }
-  if (!ContactLoad.empty())
+  if (ContactLoad)
   {
-    gradient -= ContactLoad[i];
+    gradient -= (*ContactLoad)[i];
   }
   addElementBlock(i, y, gradient, hessian);
 }

@@ -83,6 +83,7 @@ private:
   /// Sets the potential's contact loads from the points held on other bodies' faces; false
   /// when there are none.
   bool carryBodyContactLoads();
+  std::vector<Vec3> ContactLoads; ///< [N] per point, what carryBodyContactLoads set
   /// solve() once more, its iterations and residuals added to the step's report.
   void solveAgain(double h, const DynamicState& state, StepPlan& plan, const DirectionRule& direction,
     ImplicitConvergence& c);

@@ -124,9 +124,9 @@ public:
 
   const std::vector<char>& active() const { return Active; }
   /// Forces [N] per point that other bodies' contacts put on it over this step, as dead loads
-  /// (implicit_solve.cpp carries them from one solve to the next); empty: none. beginStep does
-  /// not clear them.
-  void setContactLoads(std::vector<Vec3> loads) { ContactLoad = std::move(loads); }
+  /// (implicit_solve.cpp carries them from one solve to the next, and owns them); null: none.
+  /// beginStep does not clear them.
+  void setContactLoads(const std::vector<Vec3>* loads) { ContactLoad = loads; }
   double inverseMass(std::size_t i) const { return InverseMass[i]; }
   std::size_t vertexCount() const { return Active.size(); }
   double step() const { return H; }
@@ -163,7 +163,7 @@ protected:
   double EndTime = 0.0;    ///< t0 + h: when the held points must be where Target has them
   std::vector<Vec3> X0, Target; ///< x0 and y (for held points: where they are at EndTime)
   std::vector<Vec3> DeadLoad, PullForce; ///< [N]
-  std::vector<Vec3> ContactLoad;         ///< [N]; empty: none
+  const std::vector<Vec3>* ContactLoad = nullptr; ///< [N]; null: none
   std::vector<double> PullStiffness; ///< [N/m]
 };
 
