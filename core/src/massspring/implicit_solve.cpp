@@ -24,10 +24,10 @@ constexpr double kHoldFraction = 1e-3;
 /// Direction solves per iteration while new points get held (then the line search's ratio
 /// test takes care of the rest).
 constexpr int kMaxHoldSolves = 3;
-/// Solves with the loads of bodies' contacts carried over (see step()). Two: on two TetGen tori
-/// landing on each other at 1/60 s the most tets inverted in a frame fell from 127 (Implicit
-/// Euler; 142 Projective Dynamics) without them to 29 (47) with one, 12 (24) with two; more
-/// passes neither settle nor help (the exchange of pushes and faces is not a contraction).
+/// Solves with the loads of bodies' contacts carried over (see step()). Two: the exchange of
+/// pushes and faces is not a contraction, so more passes neither settle nor help; two landed
+/// the tori of MassSpringCollisions.ImplicitIntegratorsLandABodyOnABody... with the fewest
+/// inverted tets of one to six.
 constexpr int kBodyContactPasses = 2;
 /// Step halvings tried along the path bent by the contacts before the straight one.
 constexpr int kBentHalvings = 8;
