@@ -28,6 +28,7 @@ SOFTBODY_PACKAGES=(
   openmpi-bin                                   # mpirun, for the python.mpi test (mpirun -np 2 pvbatch)
   libtbb-dev libeigen3-dev libtet1.5-dev        # core/: threads, linear algebra, TetGen
   libsuitesparse-dev libopenblas0-serial        # core/: CHOLMOD sparse Cholesky on a serial BLAS
+  libhypre-dev                                  # core/: BoomerAMG, the AlgebraicMultigrid preconditioner
   libegl-dev libopengl-dev libgl-dev            # gpu/: headless EGL + OpenGL compute
   libegl-mesa0 libgl1-mesa-dri                  # Mesa EGL + llvmpipe, so GPU tests run without a GPU
   libgtest-dev libbenchmark-dev                 # tests/unit, tests/bench

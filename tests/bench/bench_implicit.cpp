@@ -4,9 +4,11 @@
 // E = 1e5 Pa, damping time 2 ms), at all threads:
 //   - Euler-Cromer at its automatic (stable) step: ms per step, and ms per simulated second;
 //   - Implicit Euler at 1/60 s, once with each CG preconditioner (block Jacobi; the coordinate
-//     preconditioner, coordinate_preconditioner.h): ms per step, Newton iterations per step, CG
-//     iterations per Newton iteration, unconverged steps, and for the coordinate one its
-//     factorizations' time (set-up, not counted in ms per step) and the factor's memory;
+//     preconditioner, coordinate_preconditioner.h, with a complete or incomplete Cholesky factor
+//     or, where the build has hypre, a BoomerAMG hierarchy): ms per step, Newton iterations per
+//     step, CG iterations per Newton iteration, unconverged steps, and for the coordinate ones
+//     their factorizations' time (set-up, not counted in ms per step) and the factor's memory
+//     (for AMG: the hierarchy's operators and interpolations, as hypre stores them);
 //   - Projective Dynamics at 1/60 s, once with each Cholesky backend (CHOLMOD supernodal,
 //     Eigen simplicial): the factorization's time and memory, ms per step, iterations per
 //     step, unconverged steps;
@@ -18,14 +20,17 @@
 // Beside each implicit row, the bound of its linear solves at the memory bandwidth measured in
 // the same run: block-Jacobi CG streams the assembled Hessian's 3x3 blocks and ~11 vectors per
 // iteration; a Cholesky solve (Projective Dynamics per iteration, the coordinate preconditioner
-// per CG iteration) streams its factor twice (forward and back) on one thread. "x bound" is the
-// measured solve time over that bound. Results also go to CSV and to a Markdown table beside it.
+// per CG iteration) streams its factor twice (forward and back) on one thread, and an AMG
+// application about nine times (per coordinate: a smoothing sweep down, one up and the residual
+// over every level). "x bound" is the measured solve time over that bound. Results also go to
+// CSV and to a Markdown table beside it.
 //
 // Usage: bench_implicit [--smoke] [--data <shared data dir>] [--csv <file>] [--mesh <spec>]
 #include "bench_meshes.h"
 #include "bench_options.h"
 #include "memory_bandwidth.h"
 
+#include "softbody/massspring/amg_preconditioner.h"
 #include "softbody/massspring/mass_spring_reordered.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 #include "softbody/mesh/mesh_generators.h"
@@ -101,8 +106,16 @@ struct Implicit
   std::uint64_t hash = 0;
   std::size_t warnings = 0;
   double factorBytes = 0.0;
-  double cgPerStep = 0.0, choleskySolvesPerStep = 0.0;
+  double cgPerStep = 0.0;
+  double factorPassesPerStep = 0.0; ///< passes over the factor (or hierarchy) per step, on one thread
 };
+
+/// Passes over the factor per application: forward and back for a Cholesky solve; for one
+/// V-cycle per coordinate, about three per coordinate (sweep down, sweep up, residual).
+double factorPasses(LinearPreconditioner preconditioner)
+{
+  return preconditioner == LinearPreconditioner::AlgebraicMultigrid ? 9.0 : 2.0;
+}
 
 /// Bytes one block-Jacobi CG iteration streams: the Hessian's blocks (9 doubles and a column
 /// index each; one per point and two per tet edge) and ~11 vector passes plus the inverted
@@ -142,6 +155,7 @@ const Variant kVariants[] = {
   { Integrator::ImplicitEuler, "block Jacobi CG" },
   { Integrator::ImplicitEuler, "coordinate CG", LinearPreconditioner::Coordinate },
   { Integrator::ImplicitEuler, "incomplete-Cholesky CG", LinearPreconditioner::IncompleteCoordinate },
+  { Integrator::ImplicitEuler, "AMG CG", LinearPreconditioner::AlgebraicMultigrid },
   { Integrator::ProjectiveDynamics, "CHOLMOD" },
   { Integrator::ProjectiveDynamics, "Eigen simplicial", LinearPreconditioner::BlockJacobi,
     CholeskyBackend::EigenSimplicial },
@@ -151,6 +165,8 @@ const Variant kVariants[] = {
   { Integrator::ImplicitEuler, "steel, coordinate CG", LinearPreconditioner::Coordinate,
     CholeskyBackend::CholmodSupernodal, true },
   { Integrator::ImplicitEuler, "steel, incomplete-Cholesky CG", LinearPreconditioner::IncompleteCoordinate,
+    CholeskyBackend::CholmodSupernodal, true },
+  { Integrator::ImplicitEuler, "steel, AMG CG", LinearPreconditioner::AlgebraicMultigrid,
     CholeskyBackend::CholmodSupernodal, true },
 };
 
@@ -193,7 +209,7 @@ Implicit timeImplicit(const TetMesh& mesh, const Variant& variant, int frames)
     r.factorSeconds = pd->factorSeconds();
     r.factorMegabytes = double(pd->factorBytes()) / 1e6;
     r.factorBytes = double(pd->factorBytes());
-    r.choleskySolvesPerStep = r.iterationsPerStep;
+    r.factorPassesPerStep = 2.0 * r.iterationsPerStep;
   }
   if (const CoordinatePreconditioner* coordinate = massSpring.coordinatePreconditioner())
   {
@@ -204,7 +220,8 @@ Implicit timeImplicit(const TetMesh& mesh, const Variant& variant, int frames)
   r.cgPerStep = double(c.linearIterationsTotal) / double(c.steps);
   if (massSpring.coordinatePreconditioner())
   {
-    r.choleskySolvesPerStep = r.cgPerStep; // one application per CG iteration (and one before)
+    // One application per CG iteration (and one before).
+    r.factorPassesPerStep = factorPasses(variant.preconditioner) * r.cgPerStep;
   }
   r.warnings = sim.warnings().size();
   // Factorizations are set-up, not steps: reported on their own.
@@ -367,6 +384,10 @@ int main(int argc, char** argv)
     table << line;
     for (const Variant& variant : kVariants)
     {
+      if (variant.preconditioner == LinearPreconditioner::AlgebraicMultigrid && !algebraicMultigridAvailable())
+      {
+        continue; // a build without hypre
+      }
       const Implicit r = timeImplicit(named.mesh, variant, frames);
       const double perSecond = r.secondsPerStep / kFrame;
       // The explicit run is rubber's: no speed-up is claimed for steel against it.
@@ -384,7 +405,7 @@ int main(int argc, char** argv)
           << ',' << (variant.steel ? std::string() : std::to_string(speedup)) << ',' << variant.solver << '\n';
       const double solveSeconds = r.secondsPerStep * r.solveShare;
       const double bound = r.cgPerStep * cgIterationBytes(named.mesh) / bandwidth +
-        r.choleskySolvesPerStep * 2.0 * r.factorBytes / serialBandwidth;
+        r.factorPassesPerStep * r.factorBytes / serialBandwidth;
       std::printf("%-22s %7s %-37s solve %.0f ms/step, bound %.0f ms/step: %.1fx the bound\n", "", "", "",
         1e3 * solveSeconds, 1e3 * bound, solveSeconds / bound);
       std::snprintf(line, sizeof line, "| | | %s | %.0f | %.1f | %.1f | %.1f | %llu | %.2f | %.1f | %.0f %% / %.0f %% | %.0f | %.1f | %s |\n",

@@ -28,7 +28,7 @@ ImplicitEulerStepper::ImplicitEulerStepper(const Topology& topology,
   if (scene.implicit.preconditioner != LinearPreconditioner::BlockJacobi)
   {
     Coordinate = std::make_unique<CoordinatePreconditioner>(topology, elements, masses, restPositions,
-      scene.implicit.cholesky, scene.implicit.preconditioner == LinearPreconditioner::IncompleteCoordinate);
+      scene.implicit.preconditioner, scene.implicit.cholesky);
   }
   if (equilibrium)
   {
@@ -50,8 +50,9 @@ PcgPreconditioner* ImplicitEulerStepper::preconditioner(double h)
   {
     return Coordinate.get();
   }
-  PreconditionerWarning = std::string("the coordinate preconditioner could not be factored (") +
-    failure + "); the implicit solve uses block Jacobi instead";
+  PreconditionerWarning = std::string("the ") +
+    (Coordinate->kind() == LinearPreconditioner::AlgebraicMultigrid ? "algebraic multigrid" : "coordinate") +
+    " preconditioner could not be made (" + failure + "); the implicit solve uses block Jacobi instead";
   Coordinate.reset();
   return nullptr;
 }

@@ -1,6 +1,7 @@
 #include "softbody/massspring/mass_spring_setup.h"
 
 #include "softbody/collision/start_overlap.h"
+#include "softbody/massspring/amg_preconditioner.h"
 #include "softbody/massspring/tet_body_contacts.h"
 #include "softbody/common/stepping.h"
 
@@ -42,6 +43,11 @@ void validateScene(const SceneSettings& scene)
         check::quote(scene.implicit.tolerance) + ".");
     }
     check::atLeast("ImplicitMaxIterations", scene.implicit.maxIterations, 1);
+    if (scene.implicit.preconditioner == LinearPreconditioner::AlgebraicMultigrid &&
+      (newton || scene.integrator == Integrator::Static))
+    {
+      requireAlgebraicMultigrid();
+    }
     check::inRange("Chebyshev radius of Vertex Block Descent", scene.implicit.chebyshevRadius, 0.0, 1.0, false, true);
   }
   if (scene.stepControl == StepControl::ErrorControlled && factsOf(scene.integrator).order < 1)

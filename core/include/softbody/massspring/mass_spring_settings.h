@@ -23,7 +23,11 @@ enum class LinearPreconditioner
   Coordinate,  ///< a sparse Cholesky factor of the isotropic step matrix, reused across steps
   /// The same matrix's incomplete Cholesky factor (Eigen, no fill beyond A's pattern): a
   /// factor the size of A and quick to make, that sees less of the long-range coupling
-  IncompleteCoordinate
+  IncompleteCoordinate,
+  /// One V-cycle of an algebraic multigrid hierarchy of the same matrix (hypre's BoomerAMG,
+  /// amg_preconditioner.h): linear work per application, where the complete factor's solve
+  /// grows faster than the mesh. Only in builds with hypre (libhypre-dev)
+  AlgebraicMultigrid
 };
 
 /// How the implicit integrators solve each step (see implicit_euler.h, projective_dynamics.h).
