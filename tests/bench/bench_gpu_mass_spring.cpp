@@ -77,6 +77,9 @@ struct Result
   double relativeDifference = 0.0;
   bool bitwiseEqual = false;
   int steps = 0;
+  /// Why the scene itself blew up on the CPU (then nothing was timed): a finding about the
+  /// scene's step, reported in the row, not a difference between the devices.
+  std::string cpuBlowUp;
 };
 
 /// Runs `steps` steps (after a warm-up of 10) and returns the seconds per step.
@@ -102,7 +105,15 @@ Result measure(const TetMesh& mesh, Simulation& cpu, Simulation& gpu, bool smoke
   // and the limiter acts), so that the comparison covers every stage.
   result.steps = landing ? std::max(5, static_cast<int>(std::ceil((bench::kLandingTime - cpu.time()) / h)))
                          : smoke ? 5 : std::max(20, static_cast<int>(0.3 / probe));
-  result.cpuSecondsPerStep = timeSteps(cpu, result.steps);
+  try
+  {
+    result.cpuSecondsPerStep = timeSteps(cpu, result.steps);
+  }
+  catch (const SimulationDivergedError& error)
+  {
+    result.cpuBlowUp = error.what();
+    return result;
+  }
   result.gpuSecondsPerStep = timeSteps(gpu, result.steps);
 
   const auto downloadStart = std::chrono::steady_clock::now();
@@ -130,6 +141,11 @@ int main(int argc, char** argv)
   std::ofstream csv(options.csv);
   csv << "mesh,vertices,tets,material,ordering,steps,cpu_ms_per_step,gpu_ms_per_step,gpu_speedup,"
          "download_ms,max_relative_difference,bitwise_equal,gl_renderer\n";
+  // The same rows as a table for docs/gpu.md (scripts/update_docs_tables.py).
+  std::ofstream table(bench::tableBeside(options.csv));
+  table << "| mesh | tets | points | material | order | GL renderer | CPU ms/step | GPU ms/step | "
+           "GPU speed-up | one-frame download ms | max difference (of the body size) |\n"
+           "|---|---:|---:|---|---|---|---:|---:|---:|---:|---|\n";
   bool printedHeader = false;
   struct Case
   {
@@ -212,6 +228,25 @@ int main(int argc, char** argv)
         materialModelName(c.model), vertexOrderingName(ordering), r.steps, 1e3 * r.cpuSecondsPerStep, 1e3 * r.gpuSecondsPerStep,
         r.cpuSecondsPerStep / r.gpuSecondsPerStep, 1e3 * r.downloadSeconds, r.relativeDifference,
         r.bitwiseEqual ? "  (bitwise equal)" : "");
+      if (!r.cpuBlowUp.empty())
+      {
+        std::printf("%-22s %-18s %-6s the scene blew up on the CPU: %s\n", named.name.c_str(),
+          materialModelName(c.model), vertexOrderingName(ordering), r.cpuBlowUp.c_str());
+        table << "| " << named.name << " | " << named.mesh.tets.size() << " | " << named.mesh.points.size() << " | "
+              << materialModelName(c.model) << " | " << vertexOrderingName(ordering) << " | " << renderer
+              << " | blew up on the CPU at the automatic step | | | | " << r.cpuBlowUp.substr(0, r.cpuBlowUp.find(':'))
+              << " |\n";
+        continue;
+      }
+      char difference[32];
+      std::snprintf(difference, sizeof difference, "%.3g", r.relativeDifference);
+      char row[512];
+      std::snprintf(row, sizeof row, "| %s | %zu | %zu | %s | %s | %s | %.3f | %.4f | %.2f | %.3f | %s |\n",
+        named.name.c_str(), named.mesh.tets.size(), named.mesh.points.size(), materialModelName(c.model),
+        vertexOrderingName(ordering), renderer.c_str(), 1e3 * r.cpuSecondsPerStep, 1e3 * r.gpuSecondsPerStep,
+        r.cpuSecondsPerStep / r.gpuSecondsPerStep, 1e3 * r.downloadSeconds,
+        r.bitwiseEqual ? "bitwise equal" : difference);
+      table << row;
       csv << named.name << ',' << named.mesh.points.size() << ',' << named.mesh.tets.size() << ','
           << materialModelName(c.model) << ',' << vertexOrderingName(ordering) << ',' << r.steps << ',' << 1e3 * r.cpuSecondsPerStep << ','
           << 1e3 * r.gpuSecondsPerStep << ',' << r.cpuSecondsPerStep / r.gpuSecondsPerStep << ','

@@ -13,6 +13,9 @@
 //    and over the largest box (per projection), and a state hash showing both thread counts
 //    computed the same thing.
 //
+// Each CSV has a Markdown table beside it (<prefix>_convergence.md, <prefix>_throughput.md in
+// the filter's Morton order) for docs/performance.md (scripts/update_docs_tables.py).
+//
 // Usage: bench_pbd [--smoke] [--data <shared data dir>] [--csv <prefix>]
 //                  [--mesh <name or file>] [--repeat <timed runs per case>]
 #include "bench_meshes.h"
@@ -63,6 +66,10 @@ void convergence(const bench::Options& options, int maxThreads)
 {
   std::ofstream csv(options.csv + "_convergence.csv");
   csv << "cloth,solver,threads,iteration,residual,seconds\n";
+  std::ofstream table(bench::tableBeside(options.csv + "_convergence.csv"));
+  const int iterations = options.smoke ? 10 : 200;
+  table << "| cloth | solver | threads | residual after 10 | after 50 | after " << iterations
+        << " | ms / iteration |\n|---|---|---:|---:|---:|---:|---:|\n";
   std::vector<SolverCase> cases = { { "Gauss-Seidel", PbdSolver::GaussSeidel, 1.0, 1 },
     { "SOR 1.2", PbdSolver::GaussSeidel, 1.2, 1 }, { "SOR 1.5", PbdSolver::GaussSeidel, 1.5, 1 },
     { "SOR 1.8", PbdSolver::GaussSeidel, 1.8, 1 }, { "Jacobi", PbdSolver::Jacobi, 1.0, 1 },
@@ -70,7 +77,6 @@ void convergence(const bench::Options& options, int maxThreads)
     { "Parallel Gauss-Seidel", PbdSolver::ParallelGaussSeidel, 1.0, 1 },
     { "Parallel Gauss-Seidel", PbdSolver::ParallelGaussSeidel, 1.0, maxThreads } };
   const std::vector<int> sizes = options.smoke ? std::vector<int>{ 20 } : std::vector<int>{ 50, 100 };
-  const int iterations = options.smoke ? 10 : 200;
   for (int n : sizes)
   {
     std::printf("\n%d x %d cloth stretched 16x, %d iterations of one step (PBD, k = 1)\n", n, n, iterations);
@@ -97,6 +103,10 @@ void convergence(const bench::Options& options, int maxThreads)
       auto at = [&](std::size_t k) { return r[std::min(k, r.size()) - 1]; };
       std::printf("%-24s %3d %12.4g %12.4g %12.4g %14.4f\n", c.name.c_str(), c.threads, at(10), at(50),
         r.back(), 1e3 * perIteration);
+      char row[256];
+      std::snprintf(row, sizeof row, "| %d x %d | %s | %d | %.3g | %.3g | %.3g | %.3f |\n", n, n,
+        c.name.c_str(), c.threads, at(10), at(50), r.back(), 1e3 * perIteration);
+      table << row;
     }
   }
 }
@@ -125,6 +135,10 @@ void throughput(const bench::Options& options, int maxThreads)
          "cpu_ms_per_iteration,time_over_bandwidth_bound,"
          "projections_per_second_per_thread,speedup,time_over_input_order,"
          "per_projection_time_over_box,state_hash\n";
+  std::ofstream table(bench::tableBeside(options.csv + "_throughput.csv"));
+  table << "| mesh | tets | links | solver | threads | ms / iteration | projections/s per thread | "
+           "speed-up | x bw bound | per projection over the box |\n"
+           "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|\n";
   const std::vector<bench::NamedMesh> meshes =
     bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
   const bench::NamedMesh* box = bench::referenceBox(meshes);
@@ -236,6 +250,20 @@ void throughput(const bench::Options& options, int maxThreads)
               << vertexOrderingName(ordering) << ',' << int(solver) << ',' << threads << ','
               << 1e3 * t.min << ',' << 1e3 * t.median << ',' << 1e3 * cpu << ',' << overBound << ',' << perThread << ',' << oneThread / t.min
               << ',' << overInput << ',' << overBox << ',' << hash << '\n';
+          if (ordering == VertexOrdering::Morton)
+          {
+            // Boxes measured before the reference box have no ratio to it.
+            char box[32] = "-";
+            if (overBox > 0.0)
+            {
+              std::snprintf(box, sizeof box, "%.2f", overBox);
+            }
+            char row[320];
+            std::snprintf(row, sizeof row, "| %s | %zu | %zu | %s | %d | %.3f | %.3g | %.2f | %.2f | %s |\n",
+              named.name.c_str(), sim->volumes().size(), sim->links().size(), solverName(solver), threads,
+              1e3 * t.min, perThread, oneThread / t.min, overBound, box);
+            table << row;
+          }
           if (hash != firstHash)
           {
             std::fprintf(stderr, "error: the state differs between thread counts\n");

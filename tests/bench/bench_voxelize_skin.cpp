@@ -7,6 +7,9 @@
 //    binding (once) and one application (every frame), time per vertex.
 // Constant time per item across a 64x (voxelize) or 256x (skinning) range is linear scaling.
 //
+// Beside the CSV, a Markdown file with both tables under the headings "Voxelization" and
+// "Skinning" (docs/performance.md's tables, scripts/update_docs_tables.py).
+//
 // Usage: bench_voxelize_skin [--smoke] [--csv file]
 #include "bench_options.h"
 
@@ -78,6 +81,10 @@ int main(int argc, char** argv)
   const bench::Options options = bench::parseOptions(argc, argv, "bench_voxelize_skin", "bench_voxelize_skin.csv");
   std::ofstream csv(options.csv);
   csv << "part,size,items,seconds,ns_per_item\n";
+  std::ofstream table(bench::tableBeside(options.csv));
+  table << "# Voxelization\n\n| resolution | grid nodes | particles | links | seconds | us per particle |\n"
+           "|---:|---:|---:|---:|---:|---:|\n";
+  char row[256];
 
   std::printf("Soft Body Voxelize on a sphere (64 x 64 triangles' source)\n");
   std::printf("%10s %12s %12s %12s %10s %14s %14s\n", "resolution", "grid nodes", "particles",
@@ -100,6 +107,10 @@ int main(int argc, char** argv)
     std::printf("%10d %12.0f %12lld %12lld %10.4f %14.1f %14.1f\n", resolution, nodes,
       static_cast<long long>(out->GetNumberOfPoints()), static_cast<long long>(out->GetNumberOfCells()),
       seconds, 1e9 * seconds / nodes, 1e9 * seconds / double(out->GetNumberOfPoints()));
+    std::snprintf(row, sizeof row, "| %d | %.0f | %lld | %lld | %.3g | %.3g |\n", resolution, nodes,
+      static_cast<long long>(out->GetNumberOfPoints()), static_cast<long long>(out->GetNumberOfCells()),
+      seconds, 1e6 * seconds / double(out->GetNumberOfPoints()));
+    table << row;
     csv << "voxelize," << resolution << ',' << out->GetNumberOfPoints() << ',' << seconds << ','
         << 1e9 * seconds / double(out->GetNumberOfPoints()) << '\n';
     if (out->GetNumberOfPoints() == 0 || out->GetNumberOfCells() == 0)
@@ -118,6 +129,8 @@ int main(int argc, char** argv)
   std::printf("\nSkinning onto a lattice of %zu particles\n", lattice.points.size());
   std::printf("%10s %12s %12s %14s %12s %14s\n", "sphere res", "vertices", "bind [s]", "bind ns/vert",
     "apply [s]", "apply ns/vert");
+  table << "\n# Skinning\n\n| sphere resolution | vertices | lattice particles | bind ms | bind ns per vertex "
+           "| apply ms | apply ns per vertex |\n|---:|---:|---:|---:|---:|---:|---:|\n";
   const std::vector<int> surfaces = options.smoke ? std::vector<int>{ 16, 32 } : std::vector<int>{ 32, 64, 128, 256, 512 };
   for (int resolution : surfaces)
   {
@@ -154,6 +167,9 @@ int main(int argc, char** argv)
     }
     std::printf("%10d %12zu %12.5f %14.1f %12.6f %14.2f\n", resolution, vertices.size(), bind,
       1e9 * bind / n, apply, 1e9 * apply / n);
+    std::snprintf(row, sizeof row, "| %d | %zu | %zu | %.3g | %.3g | %.3g | %.3g |\n", resolution,
+      vertices.size(), lattice.points.size(), 1e3 * bind, 1e9 * bind / n, 1e3 * apply, 1e9 * apply / n);
+    table << row;
     csv << "bind," << resolution << ',' << vertices.size() << ',' << bind << ',' << 1e9 * bind / n << '\n';
     csv << "apply," << resolution << ',' << vertices.size() << ',' << apply << ',' << 1e9 * apply / n << '\n';
   }

@@ -24,8 +24,11 @@
 // timings (memory_bandwidth.h): the rows whose value is well under the thread count were
 // measured on a shared machine.
 //
+// With --csv FILE the rows go to FILE and, as a Markdown table, to FILE's .md sibling
+// (docs/performance.md's table, scripts/update_docs_tables.py).
+//
 // Usage: bench_wide_kernels [--smoke] [--data <shared data dir>] [--mesh <name or file>]
-//                           [--repeat <timed runs>]
+//                           [--repeat <timed runs>] [--csv <file>]
 #include "bench_meshes.h"
 #include "bench_options.h"
 #include "memory_bandwidth.h"
@@ -43,7 +46,9 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <functional>
+#include <string>
 #include <numeric>
 #include <random>
 
@@ -166,6 +171,67 @@ void iterate(BatchedBody& body, Sweep sweep)
   }
 }
 
+/// One mesh's XPBD iteration: seconds per iteration of each Sweep (1 thread), of the wide
+/// colored sweep at all threads, the best wide sweep's time over its streaming bound, and the
+/// cores the process got right before the all-thread timing.
+struct SweepRow
+{
+  std::string name;
+  std::size_t tets, links;
+  double seconds[5], threaded, overBound, cores;
+};
+
+/// One mesh's mass-spring internal forces, seconds per evaluation.
+struct ForceRow
+{
+  std::string name;
+  double baseline, avx2, threads, cores;
+};
+
+/// Milliseconds with three decimals, or "-" for a level this CPU does not have.
+std::string milliseconds(double seconds, bool measured)
+{
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f", 1e3 * seconds);
+  return measured ? text : "-";
+}
+
+/// The rows as CSV and, beside it, as the Markdown table of docs/performance.md.
+void writeTables(const std::string& path, const std::vector<SweepRow>& sweeps,
+  const std::vector<ForceRow>& forces, int threads, bool avx2)
+{
+  std::ofstream csv(path);
+  csv << "mesh,tets,links,scalar_ms,wide_baseline_ms,wide_avx2_ms,sequential_ms,sequential_wide_ms,"
+         "wide_threads_ms,threads,time_over_bandwidth_bound,cores,forces_baseline_ms,forces_avx2_ms,"
+         "forces_threads_ms\n";
+  std::ofstream table(bench::tableBeside(path));
+  table << "| mesh | tets | links | scalar colored | wide, baseline | wide, AVX2 | sequential GS | seq wide "
+           "| wide, " << threads << " thr | scalar over wide | 1 / " << threads << " thr | x bw | cores "
+           "| forces, baseline | forces, AVX2 | forces, " << threads << " thr |\n"
+           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  char line[512];
+  for (std::size_t i = 0; i < sweeps.size(); ++i)
+  {
+    const SweepRow& s = sweeps[i];
+    const ForceRow& f = forces[i];
+    const double best = avx2 ? s.seconds[int(Sweep::WideAvx2)] : s.seconds[int(Sweep::WideBaseline)];
+    csv << s.name << ',' << s.tets << ',' << s.links;
+    for (double t : s.seconds)
+    {
+      csv << ',' << 1e3 * t;
+    }
+    csv << ',' << 1e3 * s.threaded << ',' << threads << ',' << s.overBound << ',' << s.cores << ','
+        << 1e3 * f.baseline << ',' << 1e3 * f.avx2 << ',' << 1e3 * f.threads << '\n';
+    std::snprintf(line, sizeof line,
+      "| %s | %zu | %zu | %.3f | %.3f | %s | %.3f | %.3f | %.3f | %.2f | %.2f | %.2f | %.2f | %.3f | %s | %.3f |\n",
+      s.name.c_str(), s.tets, s.links, 1e3 * s.seconds[0], 1e3 * s.seconds[1],
+      milliseconds(s.seconds[2], avx2).c_str(), 1e3 * s.seconds[3], 1e3 * s.seconds[4], 1e3 * s.threaded,
+      s.seconds[0] / best, best / s.threaded, s.overBound, s.cores, 1e3 * f.baseline,
+      milliseconds(f.avx2, avx2).c_str(), 1e3 * f.threads);
+    table << line;
+  }
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -188,12 +254,8 @@ int main(int argc, char** argv)
   std::printf("%-24s %8s %8s %9s %9s %9s %10s %9s %9s %7s %7s %6s %5s %s\n", "mesh", "tets", "links", "scalar", "baseline",
     "wide AVX2", "sequential", "seq wide", "wide Nthr", "scal/w", "1/Nthr", "x bw", "cores", "bits");
   const std::vector<bench::NamedMesh> meshes = bench::benchmarkMeshes(options.smoke, options.dataDir, options.mesh);
-  struct ForceRow
-  {
-    std::string name;
-    double baseline, avx2, threads, cores;
-  };
   std::vector<ForceRow> forceRows;
+  std::vector<SweepRow> sweepRows;
   for (const bench::NamedMesh& named : meshes)
   {
     const Reordering reordering =
@@ -237,6 +299,9 @@ int main(int argc, char** argv)
     {
       return 1;
     }
+    sweepRows.push_back({ named.name, topology.tets.size(), topology.edges.size(),
+      { seconds[0], seconds[1], seconds[2], seconds[3], seconds[4] }, threaded,
+      seconds[best] / (bytes / bandwidth), cores });
 
     // Mass-spring forces at each level.
     std::vector<std::string> warnings;
@@ -269,6 +334,11 @@ int main(int argc, char** argv)
     const double best = avx2 ? r.avx2 : r.baseline;
     std::printf("%-24s %10.3f %10.3f %10.3f %8.2f %6.2f\n", r.name.c_str(), 1e3 * r.baseline, 1e3 * r.avx2,
       1e3 * r.threads, best / r.threads, r.cores);
+  }
+  if (!options.csv.empty())
+  {
+    writeTables(options.csv, sweepRows, forceRows, maxThreads, avx2);
+    std::printf("\nCSV: %s, table: %s\n", options.csv.c_str(), bench::tableBeside(options.csv).c_str());
   }
   return 0;
 }
