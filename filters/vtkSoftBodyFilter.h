@@ -82,6 +82,7 @@ public:
   using enum vtkSoftBodyParameters::IntegratorType;
   using enum vtkSoftBodyParameters::MaterialModeType;
   using enum vtkSoftBodyParameters::MaterialModelType;
+  using enum vtkSoftBodyParameters::VolumetricFormulationType;
   using enum vtkSoftBodyParameters::MassDistributionType;
   using enum vtkSoftBodyParameters::InvertedTetsType;
   using enum vtkSoftBodyParameters::DeviceType;
@@ -310,6 +311,17 @@ public:
    * GreenStrain, CauchyStress, VonMisesStress and StrainEnergyDensity per cell.
    */
   vtkSoftBodyParameterMacro(MaterialModel, int);
+  ///@}
+
+  ///@{
+  /**
+   * VolumetricFormulation (COROTATED and STABLE_NEO_HOOKEAN under Mass-Spring): PER_TET
+   * (default; each linear tet keeps its own volume, which locks - responds too stiff - as nu
+   * nears 0.5) or NODAL_AVERAGE (the volume term averaged at the points, Bonet and Burton 1998:
+   * no locking, for nearly incompressible materials; Implicit Euler, BDF2, Static and the
+   * explicit integrators, on the CPU).
+   */
+  vtkSoftBodyParameterMacro(VolumetricFormulation, int);
   ///@}
 
   ///@{

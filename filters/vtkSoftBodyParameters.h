@@ -62,6 +62,11 @@ struct vtkSoftBodyParameters
     PHYSICAL = 0,
     RAW_CONSTANTS = 1
   };
+  enum VolumetricFormulationType
+  {
+    PER_TET = 0,      ///< each tet holds its own volume (linear tets: lock as nu nears 0.5)
+    NODAL_AVERAGE = 1 ///< the volume term averaged at the points: no volumetric locking
+  };
   enum MassDistributionType
   {
     AVERAGE_INCIDENT_VOLUME = 0,
@@ -112,6 +117,7 @@ struct vtkSoftBodyParameters
   std::string InitialVelocityArray;
   std::string InitialDisplacementArray;
   int MaterialModel = SPRING_NETWORK;
+  int VolumetricFormulation = PER_TET;
   int MaterialMode = PHYSICAL;
   double YoungsModulus = 1.0e5;
   double PoissonRatio = 0.3;

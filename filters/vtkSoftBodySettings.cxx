@@ -42,6 +42,14 @@ softbody::MassDistribution CoreMassDistribution(int value)
     : softbody::MassDistribution::AverageIncidentVolume;
 }
 
+softbody::VolumetricFormulation CoreVolumetricFormulation(int value)
+{
+  return Choice("VolumetricFormulation", value, 2, "0 (per tet), 1 (nodal average)") ==
+      vtkSoftBodyFilter::NODAL_AVERAGE
+    ? softbody::VolumetricFormulation::NodalAverage
+    : softbody::VolumetricFormulation::PerTet;
+}
+
 softbody::InvertedTetPolicy CoreInvertedTets(int value)
 {
   return Choice("InvertedTets", value, 2, "0 (reorient), 1 (refuse)") == vtkSoftBodyFilter::REFUSE
@@ -148,6 +156,7 @@ void ConvertPbd(const vtkSoftBodyFilter::Parameters& p, vtkSoftBodyCoreSettings&
   softbody::MaterialSettings& material = settings.Material;
   material.physical.density = p.Density;
   material.massDistribution = CoreMassDistribution(p.MassDistribution);
+  material.volumetric = CoreVolumetricFormulation(p.VolumetricFormulation);
   // Each formulation reads only its own constants: PBD stiffnesses, XPBD compliances (or
   // Young's modulus), so the other's properties do not invalidate the cache.
   if (xpbd)
@@ -285,6 +294,7 @@ softbody::MaterialSettings vtkSoftBodySettings::Material(const vtkSoftBodyFilter
     material.physical.dampingTime = p.DampingTime;
   }
   material.massDistribution = CoreMassDistribution(p.MassDistribution);
+  material.volumetric = CoreVolumetricFormulation(p.VolumetricFormulation);
   material.maxInverseMass = p.MaxInverseMass;
   return material;
 }
@@ -365,6 +375,7 @@ void vtkSoftBodySettings::PrintMaterial(
   ostream& os, vtkIndent indent, const vtkSoftBodyFilter::Parameters& p)
 {
   os << indent << "MaterialModel: " << p.MaterialModel << "\n";
+  os << indent << "VolumetricFormulation: " << p.VolumetricFormulation << "\n";
   os << indent << "YoungsModulusArray: " << p.YoungsModulusArray << "\n";
   os << indent << "PoissonRatioArray: " << p.PoissonRatioArray << "\n";
   os << indent << "DensityArray: " << p.DensityArray << "\n";

@@ -224,6 +224,11 @@ std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(
       materialModelName(body.material.model) + ".";
     return nullptr;
   }
+  if (body.material.volumetric == VolumetricFormulation::NodalAverage)
+  {
+    whyNot = "the GPU backend has each tet's own volume term only, and VolumetricFormulation is Nodal Average.";
+    return nullptr;
+  }
   if (!body.conditions.empty())
   {
     whyNot = "the GPU backend has no loads or boundary conditions yet, and the body has " +

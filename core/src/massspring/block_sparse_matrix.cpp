@@ -30,6 +30,23 @@ BlockSparseMatrix::BlockSparseMatrix(const Topology& topology)
   }
   RowStart[n] = slot;
   Blocks.assign(Columns.size(), Mat3::Zero());
+  MirrorSlot.resize(Columns.size());
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    MirrorSlot[static_cast<std::size_t>(RowStart[i])] = RowStart[i];
+  }
+  for (std::size_t e = 0; e < EdgeSlotA.size(); ++e)
+  {
+    MirrorSlot[static_cast<std::size_t>(EdgeSlotA[e])] = EdgeSlotB[e];
+    MirrorSlot[static_cast<std::size_t>(EdgeSlotB[e])] = EdgeSlotA[e];
+  }
+}
+
+void BlockSparseMatrix::setCoupling(std::vector<double> weights, std::vector<Vec3> entries)
+{
+  CouplingWeight = std::move(weights);
+  CouplingEntry = std::move(entries);
+  CouplingProjection.resize(CouplingWeight.size());
 }
 
 void BlockSparseMatrix::setZero()
@@ -48,6 +65,30 @@ void BlockSparseMatrix::multiply(
       sum.noalias() += Blocks[k] * x[Columns[k]];
     }
     y[i] = sum;
+  });
+  if (CouplingWeight.empty())
+  {
+    return;
+  }
+  // y_b += sum_a c_ab (w_a c_a . x - w_a c_ab . x_b): the blocks w_a c_ab c_ab^T are in the
+  // diagonal already. Two gathers, each row summed in its slots' order.
+  parallelFor(rowCount(), 512, [&](std::size_t a) {
+    double dot = 0.0;
+    for (std::int32_t k = RowStart[a]; k < RowStart[a + 1]; ++k)
+    {
+      dot += CouplingEntry[k].dot(x[Columns[k]]);
+    }
+    CouplingProjection[a] = CouplingWeight[a] * dot;
+  });
+  parallelFor(rowCount(), 512, [&](std::size_t b) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (std::int32_t k = RowStart[b]; k < RowStart[b + 1]; ++k)
+    {
+      const std::size_t a = static_cast<std::size_t>(Columns[k]);
+      const Vec3& entry = CouplingEntry[static_cast<std::size_t>(MirrorSlot[k])]; // c_ab
+      sum.noalias() += (CouplingProjection[a] - CouplingWeight[a] * entry.dot(x[b])) * entry;
+    }
+    y[b] += sum;
   });
 }
 

@@ -147,6 +147,14 @@ MassSpringSetup prepareMassSpring(Body body, const SceneSettings& scene)
     throw InvalidInputError("The body has " + parts + ", which only the particle engine (Method "
       "PBD or XPBD) reads; the mass-spring and finite-element methods take tets alone.");
   }
+  if (body.material.volumetric == VolumetricFormulation::NodalAverage &&
+    (scene.integrator == Integrator::ProjectiveDynamics || scene.integrator == Integrator::VertexBlockDescent))
+  {
+    throw InvalidInputError(std::string("VolumetricFormulation Nodal Average couples every point's tets through "
+      "the point's volume, which ") + integratorName(scene.integrator) +
+      " cannot hold (it solves element by element or point by point): use Implicit Euler, BDF2, Static "
+      "or an explicit integrator, or VolumetricFormulation Per Tet.");
+  }
   s.mesh = prepareTetMesh(std::move(body.mesh), s.scene.invertedTets, s.warnings);
   validateErrorTolerance(s.scene, s.mesh);
   if (s.scene.stepControl == StepControl::ErrorControlled && s.scene.floorActive())

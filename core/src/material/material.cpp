@@ -49,13 +49,22 @@ void validateContinuum(const MaterialSettings& material, std::vector<std::string
   check::positive("Density", m.density, "kg/m^3");
   check::nonNegative("DampingTime", m.dampingTime, "s", "undamped");
   check::inRange("PoissonRatio", m.poissonRatio, -1.0, 0.5, true, true);
-  if (m.poissonRatio > kLockingPoissonRatio)
+  if (material.volumetric == VolumetricFormulation::NodalAverage)
+  {
+    if (m.poissonRatio < 0.0)
+    {
+      throw InvalidInputError("VolumetricFormulation Nodal Average is for nearly incompressible materials "
+        "(PoissonRatio up to 0.5); PoissonRatio " + check::quote(m.poissonRatio) +
+        " is auxetic, whose volume term would soften the points: use VolumetricFormulation Per Tet.");
+    }
+  }
+  else if (m.poissonRatio > kLockingPoissonRatio)
   {
     std::ostringstream message;
     message << "PoissonRatio " << m.poissonRatio << " is nearly incompressible: linear tets "
-            << "lock (the body responds stiffer than the material, most in bending). Refine "
-            << "the mesh where it bends, or use a PoissonRatio of at most "
-            << kLockingPoissonRatio << " if the material allows.";
+            << "lock (the body responds stiffer than the material, most in bending). Use "
+            << "VolumetricFormulation Nodal Average, which does not lock, or refine the mesh "
+            << "where it bends.";
     warnings.push_back(message.str());
   }
 }
@@ -112,7 +121,8 @@ void validateCells(const MaterialSettings& material, std::size_t tetCount,
     {
       throw InvalidInputError(cellRefusal("PoissonRatio", t, continuum ? "in (-1, 0.5)" : "in [0, 0.5)", nu));
     }
-    const bool said = continuum ? nu > kLockingPoissonRatio : nu < kNetworkPoissonRatio;
+    const bool nodal = material.volumetric == VolumetricFormulation::NodalAverage;
+    const bool said = continuum ? nu > kLockingPoissonRatio && !nodal : nu < kNetworkPoissonRatio;
     first = said && raised + locking == 0 ? t : first;
     (continuum ? locking : raised) += said ? 1 : 0;
   }
@@ -127,8 +137,8 @@ void validateCells(const MaterialSettings& material, std::size_t tetCount,
   {
     warnings.push_back("PoissonRatio is nearly incompressible in " + std::to_string(locking) +
       " cells (the first: cell " + std::to_string(first) + ", " + check::quote(c.poissonRatio[first]) +
-      "): linear tets lock there (respond stiffer than the material). Refine the mesh there, or "
-      "use a PoissonRatio of at most " + check::quote(kLockingPoissonRatio) + " if the material allows.");
+      "): linear tets lock there (respond stiffer than the material). Use VolumetricFormulation "
+      "Nodal Average, which does not lock, or refine the mesh there.");
   }
 }
 
@@ -148,6 +158,12 @@ void validateMaterial(const MaterialSettings& material, std::vector<std::string>
   if (isContinuum(material.model))
   {
     validateContinuum(material, warnings);
+  }
+  else if (material.volumetric == VolumetricFormulation::NodalAverage)
+  {
+    throw InvalidInputError(std::string("VolumetricFormulation Nodal Average averages a continuum model's "
+      "volume term at the points; MaterialModel ") + materialModelName(material.model) +
+      " has none: choose Corotated or Stable Neo-Hookean, or VolumetricFormulation Per Tet.");
   }
   else if (material.mode == MaterialMode::Physical)
   {

@@ -22,10 +22,14 @@ void cornerForces(const Topology& topology, const TetElasticConstants& c,
   const std::vector<Vec3>& x, const std::vector<Vec3>& v, TetElasticScratch& scratch)
 {
   scratch.cornerForces.resize(topology.tets.size());
+  if (c.nodalPressure)
+  {
+    evaluateNodalPressure(topology, c, x, scratch.nodal);
+  }
   parallelFor(topology.tets.size(), kTetGrain, [&](std::size_t t) {
     const Mat3 f = deformationGradient(topology, c, t, x);
     Mat3 stress;
-    energyAndStress<Law>(f, c.law[t], stress);
+    tetEnergyAndStress<Law>(c, t, f, &scratch.nodal, stress);
     if (c.damped && c.dampingTime[t] > 0.0)
     {
       // The rate of F from the velocities, seen from the current F (the Green strain rate).
@@ -59,13 +63,18 @@ void computeTetElasticForces(const Topology& topology, const TetElasticConstants
 double tetElasticEnergy(const Topology& topology, const TetElasticConstants& constants,
   const std::vector<Vec3>& x)
 {
+  NodalPressureField nodal;
+  if (constants.nodalPressure)
+  {
+    evaluateNodalPressure(topology, constants, x, nodal);
+  }
   return withElasticLaw(constants.model, [&](auto law) {
     using Law = decltype(law);
     return parallelSum(topology.tets.size(), [&](std::size_t t) {
       Mat3 stress;
       return constants.restVolume[t] *
-        energyAndStress<Law>(deformationGradient(topology, constants, t, x), constants.law[t], stress);
-    });
+        tetEnergyAndStress<Law>(constants, t, deformationGradient(topology, constants, t, x), &nodal, stress);
+    }) + nodal.energy;
   });
 }
 
@@ -78,13 +87,28 @@ TetStressField tetStressField(const Topology& topology, const TetElasticConstant
   field.cauchyStress.resize(n);
   field.vonMises.resize(n);
   field.energyDensity.resize(n);
+  NodalPressureField nodal;
+  if (constants.nodalPressure)
+  {
+    evaluateNodalPressure(topology, constants, x, nodal);
+  }
   withElasticLaw(constants.model, [&](auto law) {
     using Law = decltype(law);
     parallelFor(n, kTetGrain, [&](std::size_t t) {
       const Mat3 f = deformationGradient(topology, constants, t, x);
       Mat3 stress;
       field.greenStrain[t] = symmetricOf(0.5 * (f.transpose() * f - Mat3::Identity()));
-      field.energyDensity[t] = energyAndStress<Law>(f, constants.law[t], stress);
+      field.energyDensity[t] = tetEnergyAndStress<Law>(constants, t, f, &nodal, stress);
+      if (constants.nodalPressure)
+      {
+        double volumetric = 0.0;
+        for (const std::int32_t a : topology.tets[t])
+        {
+          const double d = nodal.pointRatio[static_cast<std::size_t>(a)] - 1.0;
+          volumetric += 0.125 * constants.nodal.lambda[static_cast<std::size_t>(a)] * d * d;
+        }
+        field.energyDensity[t] += volumetric;
+      }
       const double j = f.determinant();
       if (!(j > 0.0))
       {

@@ -1,6 +1,7 @@
 #include "softbody/material/tet_elasticity.h"
 
 #include "softbody/common/errors.h"
+#include "softbody/common/validation.h"
 
 #include <Eigen/LU>
 
@@ -44,6 +45,23 @@ TetElasticConstants computeTetElasticConstants(const Topology& topology,
     g[2] = inverse.row(1).transpose();
     g[3] = inverse.row(2).transpose();
     g[0] = -(g[1] + g[2] + g[3]);
+  }
+  if (material.volumetric == VolumetricFormulation::NodalAverage)
+  {
+    c.nodalPressure = true;
+    std::vector<double> lambda(tetCount);
+    for (std::size_t t = 0; t < tetCount; ++t)
+    {
+      lambda[t] = c.law[t].lambda;
+      const double nu = material.physicalOf(t).poissonRatio;
+      if (nu < 0.0)
+      {
+        throw InvalidInputError("VolumetricFormulation Nodal Average is for nearly incompressible materials: "
+          "PoissonRatio of cell " + std::to_string(t) + " is " + check::quote(nu) +
+          " (auxetic), whose volume term would soften the points. Use VolumetricFormulation Per Tet.");
+      }
+    }
+    c.nodal = computeNodalPressureConstants(topology, c.restVolume, lambda);
   }
   return c;
 }

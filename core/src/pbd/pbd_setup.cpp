@@ -475,6 +475,12 @@ void PbdSimulation::labelBodies()
 void PbdSimulation::setUpTetElasticity(
   const Topology& topology, const std::vector<Vec3>& rest, const MaterialSettings& bodyMaterial)
 {
+  if (bodyMaterial.volumetric == VolumetricFormulation::NodalAverage)
+  {
+    throw InvalidInputError("VolumetricFormulation Nodal Average is for the Mass-Spring method's "
+      "Newton and explicit solvers: XPBD's tet constraints are each tet's own. Use VolumetricFormulation "
+      "Per Tet with XPBD, or Method Mass-Spring with Implicit Euler, BDF2, Static or an explicit integrator.");
+  }
   MaterialSettings material = bodyMaterial;
   material.physical.dampingTime = 0.0; // XPBD damps through VelocityDamping
   ElasticTopology = topology;

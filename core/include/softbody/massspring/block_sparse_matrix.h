@@ -48,8 +48,18 @@ public:
   std::int32_t column(std::int32_t slot) const { return Columns[static_cast<std::size_t>(slot)]; }
 
   void setZero();
-  /// y = A x.
+  /// y = A x (with the coupling, when there is one).
   void multiply(const std::vector<Eigen::Vector3d>& x, std::vector<Eigen::Vector3d>& y) const;
+
+  /// A symmetric positive semi-definite term beyond the pattern, sum_a w_a c_a c_a^T, one
+  /// vector c_a per row a whose entries lie on row a's columns (c_a at column(slot) is
+  /// entries[slot]): the nodal pressure's coupling (material/nodal_pressure.h), which joins
+  /// points two edges apart. Its 3x3 diagonal blocks (w_a c_ab c_ab^T at row b) must already be
+  /// in the matrix's own blocks, where the preconditioners see them; multiply() adds the rest.
+  void setCoupling(std::vector<double> weights, std::vector<Vec3> entries);
+  bool hasCoupling() const { return !CouplingWeight.empty(); }
+  /// The slot of block (column(slot), row) in row column(slot): the transposed block's.
+  std::int32_t mirrorSlot(std::int32_t slot) const { return MirrorSlot[static_cast<std::size_t>(slot)]; }
 
 private:
   std::vector<std::int32_t> RowStart; ///< row i's blocks are [RowStart[i], RowStart[i+1])
@@ -57,6 +67,10 @@ private:
   std::vector<Mat3> Blocks;
   std::vector<std::int32_t> EdgeSlotA; ///< slot of block (a, b) of each edge, in row a
   std::vector<std::int32_t> EdgeSlotB; ///< slot of block (b, a), in row b
+  std::vector<std::int32_t> MirrorSlot;
+  std::vector<double> CouplingWeight;  ///< w_a per row; empty: no coupling
+  std::vector<Vec3> CouplingEntry;     ///< c_a's entries, per slot
+  mutable std::vector<double> CouplingProjection; ///< w_a c_a . x of the running multiply()
 };
 
 } // namespace softbody

@@ -278,6 +278,10 @@ template <ElementModel Model>
 double ModelPotential<Model>::evaluate(const std::vector<Vec3>& x, std::vector<Vec3>& gradient)
 {
   const StepStart start{ X0, H };
+  if constexpr (requires { Elements.beginEvaluate(x); })
+  {
+    Elements.beginEvaluate(x); // what the elements share beyond themselves (the nodal pressure)
+  }
   std::size_t elementCount = 0;
   forEachFamily([&](const auto& family, auto&) { elementCount += family.size(); });
   ElementEnergy.resize(elementCount);
@@ -309,8 +313,13 @@ double ModelPotential<Model>::evaluate(const std::vector<Vec3>& x, std::vector<V
   });
   const double inertia = inertialEnergy(x);
   const double loads = addLoadTerms(x, gradient);
+  double shared = 0.0;
+  if constexpr (requires { Elements.globalEnergy(); })
+  {
+    shared = Elements.globalEnergy();
+  }
   return inertia + parallelSum(ElementEnergy.size(), [&](std::size_t e) { return ElementEnergy[e]; }) +
-    loads;
+    shared + loads;
 }
 
 template <ElementModel Model>
@@ -398,6 +407,10 @@ void ModelPotential<Model>::assembleHessian(
       });
     });
   });
+  if constexpr (requires { Elements.addCoupling(x, Active, hessian); })
+  {
+    Elements.addCoupling(x, Active, hessian);
+  }
   addLoadHessian(hessian);
 }
 

@@ -284,10 +284,11 @@ Mat3 firstPiolaStress(const RotationVariantSvd& svd, const LameParameters& p)
   return svd.u * Law::gradient(svd.s, p).asDiagonal() * svd.v.transpose();
 }
 
-/// dP/dF from its nine eigenpairs; with `project`, the negative eigenvalues are clamped to zero
-/// (the exact PSD projection). [Pa]
-template <IsotropicLaw Law>
-Mat9 stressDerivative(const RotationVariantSvd& svd, const LameParameters& p, bool project)
+/// dP/dF from its nine eigenpairs in the singular frame: the scaling modes from the 3x3
+/// `scaling` (d2Psi/ds2) and the twist and flip values of the pairs (0,1), (0,2), (1,2); with
+/// `project`, the negative eigenvalues are clamped to zero (the exact PSD projection). [Pa]
+inline Mat9 stressDerivativeFromModes(const RotationVariantSvd& svd, const Mat3& scaling,
+  const Vec3& twists, const Vec3& flips, bool project)
 {
   const auto keep = [&](double value) { return project ? std::max(value, 0.0) : value; };
   Mat9 dpdf = Mat9::Zero();
@@ -300,24 +301,55 @@ Mat9 stressDerivative(const RotationVariantSvd& svd, const LameParameters& p, bo
   };
   // The iterative solver, not computeDirect: the closed-form 3x3 roots lose about half the
   // digits at the double eigenvalue 2 mu of every body at rest.
-  const Eigen::SelfAdjointEigenSolver<Mat3> scaling(Law::hessian(svd.s, p));
+  const Eigen::SelfAdjointEigenSolver<Mat3> modes(scaling);
   for (int k = 0; k < 3; ++k)
   {
-    addMode(keep(scaling.eigenvalues()(k)), Mat3(scaling.eigenvectors().col(k).asDiagonal()));
+    addMode(keep(modes.eigenvalues()(k)), Mat3(modes.eigenvectors().col(k).asDiagonal()));
   }
   constexpr double kInvSqrt2 = 0.70710678118654752440;
   constexpr int kPairs[3][2] = { { 0, 1 }, { 0, 2 }, { 1, 2 } };
-  for (const auto& pair : kPairs)
+  for (int pair = 0; pair < 3; ++pair)
   {
-    const int i = pair[0], j = pair[1];
+    const int i = kPairs[pair][0], j = kPairs[pair][1];
     Mat3 twist = Mat3::Zero(), flip = Mat3::Zero();
     twist(i, j) = kInvSqrt2;
     twist(j, i) = -kInvSqrt2;
     flip(i, j) = flip(j, i) = kInvSqrt2;
-    addMode(keep(Law::twist(svd.s, i, j, p)), twist);
-    addMode(keep(Law::flip(svd.s, i, j, p)), flip);
+    addMode(keep(twists(pair)), twist);
+    addMode(keep(flips(pair)), flip);
   }
   return dpdf;
+}
+
+/// dP/dF of the law from its nine eigenpairs; with `project`, the PSD projection. [Pa]
+template <IsotropicLaw Law>
+Mat9 stressDerivative(const RotationVariantSvd& svd, const LameParameters& p, bool project)
+{
+  const Vec3& s = svd.s;
+  const Vec3 twists(Law::twist(s, 0, 1, p), Law::twist(s, 0, 2, p), Law::twist(s, 1, 2, p));
+  const Vec3 flips(Law::flip(s, 0, 1, p), Law::flip(s, 0, 2, p), Law::flip(s, 1, 2, p));
+  return stressDerivativeFromModes(svd, Law::hessian(s, p), twists, flips, project);
+}
+
+/// The same for a tet under the nodal-averaged pressure (nodal_pressure.h): the law without its
+/// volumetric term lambda / 2 (J - 1)^2, plus `pressure` J, the tet's share of the points'
+/// pressure (its curvature in J alone; the points' coupling is apart). [Pa]
+template <IsotropicLaw Law>
+Mat9 stressDerivativeWithPressure(const RotationVariantSvd& svd, const LameParameters& p,
+  double pressure, bool project)
+{
+  const Vec3& s = svd.s;
+  const double shift = pressure - p.lambda * (s(0) * s(1) * s(2) - 1.0); // pressure - the tet's own
+  const Vec3 others(s(1) * s(2), s(0) * s(2), s(0) * s(1));
+  Mat3 scaling = Law::hessian(s, p) - p.lambda * others * others.transpose();
+  scaling(0, 1) = scaling(1, 0) = scaling(0, 1) + shift * s(2);
+  scaling(0, 2) = scaling(2, 0) = scaling(0, 2) + shift * s(1);
+  scaling(1, 2) = scaling(2, 1) = scaling(1, 2) + shift * s(0);
+  const Vec3 twists(Law::twist(s, 0, 1, p) + shift * s(2), Law::twist(s, 0, 2, p) + shift * s(1),
+    Law::twist(s, 1, 2, p) + shift * s(0));
+  const Vec3 flips(Law::flip(s, 0, 1, p) - shift * s(2), Law::flip(s, 0, 2, p) - shift * s(1),
+    Law::flip(s, 1, 2, p) - shift * s(0));
+  return stressDerivativeFromModes(svd, scaling, twists, flips, project);
 }
 
 /// The Hessian of the viscous potential of tet_elasticity.h, dF -> C : sym(G^T dF) seen from

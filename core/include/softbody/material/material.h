@@ -46,6 +46,13 @@ enum class MaterialModel
 const char* materialModelName(MaterialModel model);
 inline bool isContinuum(MaterialModel model) { return model != MaterialModel::SpringNetwork; }
 
+/// How a continuum model's tets hold their volume (material/nodal_pressure.h).
+enum class VolumetricFormulation
+{
+  PerTet,      ///< each tet its own volume ratio: linear tets, which lock as nu nears 0.5
+  NodalAverage ///< the volume ratio averaged at the points (Bonet and Burton 1998): no locking
+};
+
 enum class MassDistribution
 {
   AverageIncidentVolume, ///< m_i proportional to the mean volume of the tets around i (thesis)
@@ -92,6 +99,8 @@ struct MaterialSettings
   PhysicalMaterial physical;
   RawConstants raw;
   MassDistribution massDistribution = MassDistribution::AverageIncidentVolume;
+  /// Continuum models only; NodalAverage for nearly incompressible materials.
+  VolumetricFormulation volumetric = VolumetricFormulation::PerTet;
   /// Largest allowed inverse mass [1/kg]; larger ones are truncated (the point gets heavier).
   /// 0 disables truncation.
   double maxInverseMass = 0.0;

@@ -20,10 +20,12 @@
 #include "softbody/material/element_model.h"
 #include "softbody/material/isotropic_elasticity.h"
 #include "softbody/material/material.h"
+#include "softbody/material/nodal_pressure.h"
 #include "softbody/material/tet_corners.h"
 #include "softbody/mesh/topology.h"
 
 #include <array>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -41,6 +43,9 @@ struct TetElasticConstants
   std::vector<LameParameters> law;                 ///< the law's own parameters [Pa]
   std::vector<double> dampingTime;                 ///< beta [s]
   bool damped = true; ///< false: the static solve's potential (no viscosity)
+  /// VolumetricFormulation::NodalAverage: the volumetric term at the points (nodal_pressure.h).
+  bool nodalPressure = false;
+  NodalPressureConstants nodal; ///< filled when nodalPressure
 };
 
 /// The constants of `material` (whose model must be a continuum one) on positively oriented
@@ -73,6 +78,29 @@ inline Mat3 viscousStress(const Mat3& frame, const Mat3& rate, const LameParamet
   return beta * frame * (2.0 * p.mu * d + p.lambda * d.trace() * Mat3::Identity());
 }
 
+/// Psi [Pa] and P of a tet under the nodal-averaged pressure (nodal_pressure.h): the law's,
+/// without its volumetric term lambda / 2 (J - 1)^2 (whose energy the points hold), and with
+/// `pressure`, the tet's share of the points' pressure, in place of its own lambda (J - 1).
+template <IsotropicLaw Law>
+double energyAndStressWithPressure(const Mat3& f, const LameParameters& p, double pressure, Mat3& stress)
+{
+  double energy = energyAndStress<Law>(f, p, stress);
+  const Mat3 cofactor = cofactorOf(f);
+  const double excess = f.col(0).dot(cofactor.col(0)) - 1.0; // J - 1
+  stress += (pressure - p.lambda * excess) * cofactor;
+  return energy - 0.5 * p.lambda * excess * excess;
+}
+
+/// Psi [Pa] and P of tet t at F: its law's, or with the nodal pressure where the constants ask
+/// for it (`field` then evaluated at the same positions).
+template <IsotropicLaw Law>
+double tetEnergyAndStress(const TetElasticConstants& c, std::size_t t, const Mat3& f,
+  const NodalPressureField* field, Mat3& stress)
+{
+  return c.nodalPressure ? energyAndStressWithPressure<Law>(f, c.law[t], field->tetPressure[t], stress)
+                         : energyAndStress<Law>(f, c.law[t], stress);
+}
+
 /// The tets of a continuum body under `Law` as an element family (element_model.h).
 template <IsotropicLaw Law>
 class TetElasticFamily
@@ -92,9 +120,13 @@ public:
   /// The blocks H_ab for a <= b, in the order (0,0) (0,1) (0,2) (0,3) (1,1) (1,2) ... (3,3).
   using HessianData = std::array<Mat3, 10>;
 
-  TetElasticFamily(const Topology& topology, const TetElasticConstants& constants)
+  /// `field`: the nodal pressure at the positions of the next evaluate() (constants with
+  /// nodalPressure only; see TetElasticModel).
+  TetElasticFamily(const Topology& topology, const TetElasticConstants& constants,
+    const NodalPressureField* field = nullptr)
     : Topo(&topology)
     , Constants(&constants)
+    , Field(field)
   {
   }
 
@@ -121,7 +153,7 @@ public:
     const TetElasticConstants& c = *Constants;
     const Mat3 f = deformationGradient(*Topo, c, t, x);
     Mat3 stress;
-    double energy = energyAndStress<Law>(f, c.law[t], stress);
+    double energy = tetEnergyAndStress<Law>(c, t, f, Field, stress);
     if (c.damped && c.dampingTime[t] > 0.0)
     {
       const Mat3 rate = (f - step.f0) / start.h;
@@ -149,7 +181,9 @@ public:
   {
     const TetElasticConstants& c = *Constants;
     const RotationVariantSvd svd = rotationVariantSvd(deformationGradient(*Topo, c, t, x));
-    Mat9 dpdf = stressDerivative<Law>(svd, c.law[t], !start.exactHessian);
+    Mat9 dpdf = c.nodalPressure
+      ? stressDerivativeWithPressure<Law>(svd, c.law[t], Field->tetPressure[t], !start.exactHessian)
+      : stressDerivative<Law>(svd, c.law[t], !start.exactHessian);
     if (c.damped && c.dampingTime[t] > 0.0)
     {
       dpdf += (c.dampingTime[t] / start.h) * viscousTensor(step.f0, c.linear[t]);
@@ -211,20 +245,45 @@ private:
 
   const Topology* Topo;
   const TetElasticConstants* Constants;
+  const NodalPressureField* Field;
 };
 
-/// A continuum body as a material model: one family, its tets.
+/// A continuum body as a material model: one family, its tets; with the nodal pressure, also
+/// the points' volumetric term, which ModelPotential asks for through beginEvaluate (before
+/// the element pass), globalEnergy and addCoupling.
 template <IsotropicLaw Law>
 class TetElasticModel
 {
 public:
   TetElasticModel(const Topology& topology, const TetElasticConstants& constants)
-    : Tets(topology, constants)
+    : Topo(&topology)
+    , Constants(&constants)
+    , Field(std::make_unique<NodalPressureField>())
+    , Tets(topology, constants, Field.get())
   {
   }
   std::tuple<const TetElasticFamily<Law>&> families() const { return { Tets }; }
 
+  void beginEvaluate(const std::vector<Vec3>& x)
+  {
+    if (Constants->nodalPressure)
+    {
+      evaluateNodalPressure(*Topo, *Constants, x, *Field);
+    }
+  }
+  double globalEnergy() const { return Constants->nodalPressure ? Field->energy : 0.0; }
+  void addCoupling(const std::vector<Vec3>& x, const std::vector<char>& active, BlockSparseMatrix& hessian) const
+  {
+    if (Constants->nodalPressure)
+    {
+      addNodalPressureCoupling(*Topo, *Constants, x, active, hessian);
+    }
+  }
+
 private:
+  const Topology* Topo;
+  const TetElasticConstants* Constants;
+  std::unique_ptr<NodalPressureField> Field; // owned apart, so the family's pointer survives a move
   TetElasticFamily<Law> Tets;
 };
 
