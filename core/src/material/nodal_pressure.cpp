@@ -42,7 +42,6 @@ void evaluateNodalPressure(const Topology& topology, const TetElasticConstants& 
   field.tetPressure.resize(tets);
   parallelFor(tets, kTetGrain,
     [&](std::size_t t) { field.tetRatio[t] = deformationGradient(topology, c, t, x).determinant(); });
-  std::vector<double> pressure(points, 0.0);
   parallelFor(points, kPointGrain, [&](std::size_t a) {
     const double volume = c.nodal.volume[a];
     if (!(volume > 0.0))
@@ -54,11 +53,15 @@ void evaluateNodalPressure(const Topology& topology, const TetElasticConstants& 
     forEachTetCorner(topology, static_cast<std::int32_t>(a),
       [&](std::size_t t, int) { current += 0.25 * c.restVolume[t] * field.tetRatio[t]; });
     field.pointRatio[a] = current / volume;
-    pressure[a] = c.nodal.lambda[a] * (field.pointRatio[a] - 1.0);
   });
+  // p_a = lambda_a (Jbar_a - 1), formed at each corner rather than kept per point: four
+  // multiply-adds per tet instead of a point-sized buffer per call.
+  const auto pressureAt = [&](std::int32_t a) {
+    return c.nodal.lambda[static_cast<std::size_t>(a)] * (field.pointRatio[static_cast<std::size_t>(a)] - 1.0);
+  };
   parallelFor(tets, kTetGrain, [&](std::size_t t) {
     const Tet& tet = topology.tets[t];
-    field.tetPressure[t] = 0.25 * (pressure[tet[0]] + pressure[tet[1]] + pressure[tet[2]] + pressure[tet[3]]);
+    field.tetPressure[t] = 0.25 * (pressureAt(tet[0]) + pressureAt(tet[1]) + pressureAt(tet[2]) + pressureAt(tet[3]));
   });
   field.energy = parallelSum(points, [&](std::size_t a) {
     const double d = field.pointRatio[a] - 1.0;
