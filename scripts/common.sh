@@ -1,8 +1,11 @@
 # shellcheck shell=bash
-# Shared set-up for scripts/demo.sh and scripts/test.sh (sourced, not run):
-#   1. checks that the Debian packages the build, the tests and the demo need are installed, and
-#      installs the missing ones when running as root (or prints the apt-get line and exits 1);
-#   2. configures build/ once (CMake + Ninja, Release) and builds it (fast when up to date).
+# Shared set-up for scripts/demo.sh, scripts/test.sh and scripts/bench.sh (sourced, not run):
+#   1. checks that the Debian packages the caller needs are installed (softbody_setup demo: the
+#      build's and the demo's; softbody_setup: those and the tests'), and installs the missing
+#      ones when running as root (or prints the apt-get line and exits 1);
+#   2. configures build/ once (CMake + Ninja, Release) and builds it (fast when up to date). A
+#      folder the demo configures first leaves the tests and benchmarks out; the tests' set-up
+#      turns them on again.
 #
 # Variables a caller may set beforehand:
 #   SOFTBODY_BUILD_DIR   build folder (default: <repo>/build)
@@ -20,21 +23,25 @@ SOFTBODY_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 SOFTBODY_BUILD_DIR="${SOFTBODY_BUILD_DIR:-${SOFTBODY_ROOT}/build}"
 SOFTBODY_PLUGIN_FILE="${SOFTBODY_BUILD_DIR}/lib/paraview-5.11/plugins/SoftBody/SoftBody.so"
 
-# Debian bookworm packages, one line per reason.
+# Debian bookworm packages the build and the demo need, one line per reason.
 SOFTBODY_PACKAGES=(
   cmake ninja-build g++ pkg-config              # the build tools
   paraview-dev python3-paraview python3-numpy   # ParaView 5.11 headers and CMake config, pvpython
   libdouble-conversion-dev libopenmpi-dev       # required by paraview-dev's CMake config
-  openmpi-bin                                   # mpirun, for the python.mpi test (mpirun -np 2 pvbatch)
   libtbb-dev libeigen3-dev libtet1.5-dev        # core/: threads, linear algebra, TetGen
   libsuitesparse-dev libopenblas0-serial        # core/: CHOLMOD sparse Cholesky on a serial BLAS
   libhypre-dev                                  # core/: BoomerAMG, the AlgebraicMultigrid preconditioner
   libegl-dev libopengl-dev libgl-dev            # gpu/: headless EGL + OpenGL compute
   libegl-mesa0 libgl1-mesa-dri                  # Mesa EGL + llvmpipe, so GPU tests run without a GPU
-  libgtest-dev libbenchmark-dev                 # tests/unit, tests/bench
   xvfb xauth                                    # rendering (demo, tests) without a display
+  python3-pil                                   # the demo's animated GIF
   qtxmlpatterns5-dev-tools qttools5-dev         # the plugin's help pages (xmlpatterns, qhelpgenerator)
-  paraview libqt5svg5                           # the ParaView GUI, for tests/gui (svg: toolbar icons)
+  paraview libqt5svg5                           # the GUI, to open the demo's state; tests/gui (svg: icons)
+)
+# What the tests and benchmarks add.
+SOFTBODY_TEST_PACKAGES=(
+  libgtest-dev libbenchmark-dev                 # tests/unit, tests/bench
+  openmpi-bin                                   # mpirun, for the python.mpi test (mpirun -np 2 pvbatch)
 )
 
 softbody_log() { printf '[softbody] %s\n' "$*" >&2; }
@@ -117,8 +124,18 @@ softbody_configure_and_build() {
   fi
 }
 
+# softbody_setup [demo]: the packages and the build the caller needs; without `demo`, the tests'
+# and benchmarks' too.
 softbody_setup() {
   cd "${SOFTBODY_ROOT}" || exit 1
+  if [[ "${1:-}" == "demo" ]]; then
+    if [[ ! -f "${SOFTBODY_BUILD_DIR}/CMakeCache.txt" ]]; then
+      SOFTBODY_CMAKE_ARGS+=("-DSOFTBODY_BUILD_TESTING=OFF" "-DSOFTBODY_BUILD_BENCHMARKS=OFF")
+    fi
+  else
+    SOFTBODY_PACKAGES+=("${SOFTBODY_TEST_PACKAGES[@]}")
+    SOFTBODY_CMAKE_ARGS+=("-DSOFTBODY_BUILD_TESTING=ON" "-DSOFTBODY_BUILD_BENCHMARKS=ON")
+  fi
   softbody_check_packages
   softbody_configure_and_build
 }

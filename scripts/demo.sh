@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
-# Soft Body demo: installs what is missing (Debian bookworm), builds the plugin, then in pvpython
-# drops a jelly onto a floor (mass-spring; output/demo/softbody.pvd + softbody.png) and a
-# voxelized torus whose surface is skinned onto its particles (XPBD; output/demo/torus.pvd +
-# torus.png) and three jellies onto a block obstacle and each other (mass-spring, Collisions =
-# Obstacles + Bodies; output/demo/pile.pvd + pile.png). Extra arguments go to every run of
-# scripts/demo.py (see --help).
+# Soft Body demo: installs what the build and the demo need (Debian bookworm; not the tests'
+# frameworks), builds the plugin, then in pvpython drops a jelly onto a floor (mass-spring;
+# output/demo/softbody.*), a voxelized torus whose surface is skinned onto its particles (XPBD;
+# output/demo/torus.*) and three jellies onto a block obstacle and each other (mass-spring,
+# Collisions = Obstacles + Bodies; output/demo/pile.*). Each writes its run as data (.pvd, with
+# the floor and obstacles), a picture (.png), an animation (.gif) and a ParaView state (.pvsm).
+# Extra arguments go to every run of scripts/demo.py (see --help).
 set -euo pipefail
 # shellcheck source=scripts/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
-softbody_setup
+softbody_setup demo
 
 # Debian's ParaView renders through GLX only: give it a virtual X display (24-bit; xvfb-run's
 # default of 8 bits is too little for GLX).
