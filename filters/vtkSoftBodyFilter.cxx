@@ -3,6 +3,7 @@
 #include "vtkSoftBodyConditionCodec.h"
 #include "vtkSoftBodyConditionInput.h"
 #include "vtkSoftBodyDistribution.h"
+#include "vtkSoftBodyFloorPlacement.h"
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyFrameRunner.h"
 #include "vtkSoftBodyObstacleTimeline.h"
@@ -40,6 +41,8 @@ class vtkSoftBodyFilter::vtkInternals : public vtkSoftBodyFrameRunner
 {
 public:
   vtkSoftBodyConditionInput Conditions; ///< the Conditions input, converted on the body
+  std::string FloorWarning;     ///< the floor was placed off FloorOrigin (vtkSoftBodyFloorPlacement)
+  std::string FloorWarningSaid; ///< the last one printed, so it is said once
 };
 
 namespace
@@ -231,6 +234,16 @@ int vtkSoftBodyFilter::RequestData(
 
   input = this->LocalInput(
     input, settings, inputVector[1]->GetNumberOfInformationObjects() > 0, requestInfo);
+  // Where the floor goes, from the body (collective under MPI: before a rank without a body
+  // returns). Part of the settings, so a body moved under the floor rebuilds the run.
+  this->Internals->FloorWarning = vtkSoftBodyFloorPlacement::Place(this->P.FloorPlacement, input,
+    vtkSoftBodyDistribution::ParallelController(), settings.SelectedScene());
+  if (!this->Internals->FloorWarning.empty() &&
+    this->Internals->FloorWarning != this->Internals->FloorWarningSaid)
+  {
+    vtkWarningMacro(<< this->Internals->FloorWarning);
+    this->Internals->FloorWarningSaid = this->Internals->FloorWarning;
+  }
   if (!input)
   {
     vtkSoftBodyOutputAssembly::StampTime(outputVector, t);
@@ -369,7 +382,7 @@ bool vtkSoftBodyFilter::AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData*
     }
   }
   const std::string inversionWarning = vtkSoftBodyOutputAssembly::FillMesh(input, internals.Built,
-    this->P, { internals.RunWarning, internals.LandingWarning }, surface ? internals.Skin.GetWarning() : std::string(),
+    this->P, { internals.FloorWarning, internals.RunWarning, internals.LandingWarning }, surface ? internals.Skin.GetWarning() : std::string(),
     outputs.Mesh);
   if (!inversionWarning.empty() && !internals.InversionSaid)
   {
@@ -394,11 +407,12 @@ bool vtkSoftBodyFilter::AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData*
   vtkSoftBodyOutputAssembly::FillConvergence(internals.Built, outputs.Convergence);
   if (surface)
   {
-    vtkSoftBodyOutputAssembly::FillSurface(internals.Skin, surface, internals.Built, this->P,
+    vtkSoftBodyOutputAssembly::FillSurface(internals.Skin, surface, internals.Built,
+      internals.BuiltSettings().SelectedScene(),
       internals.Obstacles.At(internals.Built.Simulation->time(), 1e-6 * this->P.FrameInterval),
       outputs.Surface);
   }
-  vtkSoftBodyOutputAssembly::FillFloor(this->P, input, outputs.Floor);
+  vtkSoftBodyOutputAssembly::FillFloor(this->P, internals.BuiltSettings().SelectedScene(), input, outputs);
   return true;
 }
 
@@ -415,6 +429,7 @@ void vtkSoftBodyFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Gravity: " << this->P.Gravity[0] << " " << this->P.Gravity[1] << " "
      << this->P.Gravity[2] << "\n";
   os << indent << "Floor: " << this->P.Floor << "\n";
+  os << indent << "FloorPlacement: " << this->P.FloorPlacement << "\n";
   os << indent << "FloorOrigin: " << this->P.FloorOrigin[0] << " " << this->P.FloorOrigin[1] << " "
      << this->P.FloorOrigin[2] << "\n";
   os << indent << "FloorNormal: " << this->P.FloorNormal[0] << " " << this->P.FloorNormal[1] << " "

@@ -83,6 +83,7 @@ public:
   using enum vtkSoftBodyParameters::MaterialModeType;
   using enum vtkSoftBodyParameters::MaterialModelType;
   using enum vtkSoftBodyParameters::VolumetricFormulationType;
+  using enum vtkSoftBodyParameters::FloorPlacementType;
   using enum vtkSoftBodyParameters::MassDistributionType;
   using enum vtkSoftBodyParameters::InvertedTetsType;
   using enum vtkSoftBodyParameters::DeviceType;
@@ -273,10 +274,16 @@ public:
 
   ///@{
   /**
-   * Floor: a plane through FloorOrigin [m] with normal FloorNormal (pointing into free space)
-   * that points cannot cross. On by default. A zero FloorNormal is an error.
+   * Floor: a plane with normal FloorNormal (pointing into free space) that points cannot cross.
+   * On by default. A zero FloorNormal is an error. FloorPlacement says where it goes:
+   * FLOOR_AUTOMATIC (default) through FloorOrigin [m], unless the body starts below that plane
+   * (a mesh in scanner coordinates): then under the body, with a warning;
+   * FLOOR_UNDER_THE_BODY through the body's lowest point along FloorNormal;
+   * FLOOR_THROUGH_FLOOR_ORIGIN through FloorOrigin, a body below it lifted onto it at t = 0.
+   * Field data FloorOrigin holds where it went.
    */
   vtkSoftBodyBooleanParameterMacro(Floor);
+  vtkSoftBodyParameterMacro(FloorPlacement, int);
   vtkSoftBodyVector3ParameterMacro(FloorOrigin);
   vtkSoftBodyVector3ParameterMacro(FloorNormal);
   ///@}

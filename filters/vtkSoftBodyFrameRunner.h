@@ -63,6 +63,8 @@ public:
 
   /// Forgets the simulation, its cached frames and its key.
   void Discard();
+  /// The core settings the simulation was built from (the floor where the run placed it).
+  const vtkSoftBodyCoreSettings& BuiltSettings() const { return this->Settings; }
 
   /// The simulation and the device it runs on.
   vtkSoftBodyBuiltSimulation Built;

@@ -15,10 +15,12 @@
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkDataObject.h"
+#include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -326,19 +328,29 @@ void vtkSoftBodyOutputAssembly::FillConvergence(
 
 //------------------------------------------------------------------------------
 void vtkSoftBodyOutputAssembly::FillSurface(const vtkSoftBodySkin& skin, vtkPolyData* surface,
-  const vtkSoftBodyBuiltSimulation& built, const vtkSoftBodyParameters& p,
+  const vtkSoftBodyBuiltSimulation& built, const softbody::Scene& scene,
   const std::vector<softbody::ObstacleSurface>& obstacles, vtkPolyData* output)
 {
-  softbody::FloorPlane floor;
-  floor.origin = softbody::Vec3(p.FloorOrigin[0], p.FloorOrigin[1], p.FloorOrigin[2]);
-  floor.normal = softbody::Vec3(p.FloorNormal[0], p.FloorNormal[1], p.FloorNormal[2]);
-  skin.Fill(surface, built.Simulation->positions(), output, p.Floor != 0 ? &floor : nullptr,
-    obstacles);
+  skin.Fill(surface, built.Simulation->positions(), output,
+    scene.floorActive() ? &scene.floor : nullptr, obstacles);
 }
 
 //------------------------------------------------------------------------------
-void vtkSoftBodyOutputAssembly::FillFloor(
-  const vtkSoftBodyParameters& p, vtkUnstructuredGrid* input, vtkPolyData* output)
+void vtkSoftBodyOutputAssembly::FillFloor(const vtkSoftBodyParameters& p,
+  const softbody::Scene& scene, vtkUnstructuredGrid* input, const Outputs& outputs)
 {
-  vtkSoftBodyFloorOutput::Fill(p.Floor != 0, p.FloorOrigin, p.FloorNormal, input->GetBounds(), output);
+  double origin[3] = { p.FloorOrigin[0], p.FloorOrigin[1], p.FloorOrigin[2] };
+  if (scene.floorActive())
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      origin[k] = scene.floor.origin[k];
+    }
+    vtkNew<vtkDoubleArray> where;
+    where->SetName("FloorOrigin");
+    where->SetNumberOfComponents(3);
+    where->InsertNextTuple(origin);
+    outputs.Mesh->GetFieldData()->AddArray(where);
+  }
+  vtkSoftBodyFloorOutput::Fill(p.Floor != 0, origin, p.FloorNormal, input->GetBounds(), outputs.Floor);
 }

@@ -10,6 +10,7 @@
 #include "vtkSoftBodyOutputPort.h"
 
 #include "softbody/collision/obstacle.h"
+#include "softbody/scene/scene.h"
 
 #include <string>
 #include <vector>
@@ -63,14 +64,17 @@ void FillParticles(
 /// The Convergence port: PBD/XPBD's or the implicit integrators' residuals; empty otherwise.
 void FillConvergence(const vtkSoftBodyBuiltSimulation& built, vtkTable* output);
 
-/// The Surface port: `surface`, bound by `skin`, moved with the body and kept above the floor
-/// (when on) and outside `obstacles`.
+/// The Surface port: `surface`, bound by `skin`, moved with the body and kept above the
+/// scene's floor (where active) and outside `obstacles`.
 void FillSurface(const vtkSoftBodySkin& skin, vtkPolyData* surface,
-  const vtkSoftBodyBuiltSimulation& built, const vtkSoftBodyParameters& p,
+  const vtkSoftBodyBuiltSimulation& built, const softbody::Scene& scene,
   const std::vector<softbody::ObstacleSurface>& obstacles, vtkPolyData* output);
 
-/// The Floor port: the floor plane as a square under `input`'s rest bounds; empty when off.
-void FillFloor(const vtkSoftBodyParameters& p, vtkUnstructuredGrid* input, vtkPolyData* output);
+/// The Floor port: the floor plane as a square under `input`'s rest bounds, where the run put
+/// it (`scene`, vtkSoftBodyFloorPlacement; FloorOrigin where the floor is not active); empty
+/// when Floor is off. With an active floor, the Mesh's field data FloorOrigin says where it is.
+void FillFloor(const vtkSoftBodyParameters& p, const softbody::Scene& scene,
+  vtkUnstructuredGrid* input, const Outputs& outputs);
 }
 
 #endif

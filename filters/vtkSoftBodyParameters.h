@@ -67,6 +67,12 @@ struct vtkSoftBodyParameters
     PER_TET = 0,      ///< each tet holds its own volume (linear tets: lock as nu nears 0.5)
     NODAL_AVERAGE = 1 ///< the volume term averaged at the points: no volumetric locking
   };
+  enum FloorPlacementType
+  {
+    FLOOR_AUTOMATIC = 0,           ///< through FloorOrigin, or under a body that starts below it
+    FLOOR_UNDER_THE_BODY = 1,      ///< through the body's lowest point along FloorNormal
+    FLOOR_THROUGH_FLOOR_ORIGIN = 2 ///< through FloorOrigin; a body below it is lifted onto it
+  };
   enum MassDistributionType
   {
     AVERAGE_INCIDENT_VOLUME = 0,
@@ -109,6 +115,7 @@ struct vtkSoftBodyParameters
   double FrameInterval = 0.04;
   double Gravity[3] = { 0.0, 0.0, -9.81 };
   vtkTypeBool Floor = 1;
+  int FloorPlacement = FLOOR_AUTOMATIC;
   double FloorOrigin[3] = { 0.0, 0.0, 0.0 };
   double FloorNormal[3] = { 0.0, 0.0, 1.0 };
   std::string PinnedPointsArray;

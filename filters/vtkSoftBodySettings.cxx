@@ -227,6 +227,10 @@ softbody::Scene vtkSoftBodySettings::Scene(const vtkSoftBodyFilter::Parameters& 
   scene.floorEnabled = p.Floor != 0;
   if (scene.floorActive())
   {
+    // Where it goes from FloorOrigin needs the body: the filter places it
+    // (vtkSoftBodyFloorPlacement); the value is checked here with the others.
+    Choice("FloorPlacement", p.FloorPlacement, 3,
+      "0 (Automatic), 1 (Under the Body), 2 (Through Floor Origin)");
     scene.floor.origin = ToVec3(p.FloorOrigin);
     scene.floor.normal = ToVec3(p.FloorNormal);
   }

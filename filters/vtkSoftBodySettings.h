@@ -57,6 +57,11 @@ struct vtkSoftBodyCoreSettings
 
   /// The selected method's scene: what its rules (core's Scene::floorActive(),
   /// CollisionSettings::on(), bodiesCollide()) are asked of.
+  softbody::Scene& SelectedScene()
+  {
+    return this->Method == vtkSoftBodyFilter::MASS_SPRING ? static_cast<softbody::Scene&>(this->Scene)
+                                                          : static_cast<softbody::Scene&>(this->Pbd);
+  }
   const softbody::Scene& SelectedScene() const
   {
     return this->Method == vtkSoftBodyFilter::MASS_SPRING

@@ -1,7 +1,8 @@
 """python.floor_start: a body that starts half below the floor is put on it, not launched.
 
-The bundled torus, voxelized and centred on the floor plane z = 0, is simulated with PBD and
-XPBD for 1 s. Without pre-stabilization it would leave at 23 m/s and be 18 m up after 1 s;
+The bundled torus, voxelized and centred on the floor plane z = 0 (FloorPlacement Through
+Floor Origin; Automatic would place the floor under it: python.floor_placement), is simulated
+with PBD and XPBD for 1 s. Without pre-stabilization it would leave at 23 m/s and be 18 m up after 1 s;
 instead it is lifted onto the floor at t = 0 without velocity, with a warning, and never rises
 above that start; its lowest point stays on the floor."""
 
@@ -23,7 +24,7 @@ centred.Transform.Translate = [0.0, 0.0, -0.5 * (bounds[4] + bounds[5])]
 lattice = SoftBodyVoxelize(Input=centred, Spacing=0.03)
 
 for method in ("PBD", "XPBD"):
-    body = SoftBody(Input=lattice, Method=method, EndTime=1.0)
+    body = SoftBody(Input=lattice, Method=method, EndTime=1.0, FloorPlacement="Through Floor Origin")
     body.UpdatePipelineInformation()
     start = sbt.output_at(body, 0.0)
     x0 = sbt.points_of(start)

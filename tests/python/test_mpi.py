@@ -20,6 +20,9 @@ total mass, and each body simulated whole on one rank. Five scenes:
 - conditions: a Soft Body Condition (a force on every point left of the row's middle) made on
   the ranks' pieces, whose set spans bodies on both ranks: the filter gathers it, and every
   point ends where the serial run puts it.
+- floor_under: FloorPlacement Under the Body on a floor tilted along the row (FloorNormal
+  0.3 0 1), whose lowest point is on one end body: every rank must place the floor through
+  that point (reduced over the ranks), not through its own bodies' lowest.
 """
 
 import json
@@ -68,7 +71,7 @@ def write(grid, path):
     writer.Write()
 
 
-SCENES = ("plain", "obstacle", "bodies", "surface", "conditions")
+SCENES = ("plain", "obstacle", "bodies", "surface", "conditions", "floor_under")
 
 
 def sphere_under_bodies(bounds):
@@ -90,6 +93,9 @@ def soft_body(scene, source, bounds, reader):
                                  Region="Half-space", PlaneOrigin=[0.5 * (bounds[0] + bounds[1]), 0, 0],
                                  PlaneNormal=[-1, 0, 0], Force=[0, 0, 0.05], ForceSpread="Per point")
         return SoftBody(Input=source, Conditions=[push], EndTime=END_TIME)
+    if scene == "floor_under":
+        return SoftBody(Input=source, FloorPlacement="Under the Body", FloorNormal=[0.3, 0.0, 1.0],
+                        EndTime=END_TIME)
     if scene == "surface":
         # From the reader, not from the redistributed pieces (whose surfaces include the cuts).
         return SoftBody(Input=source, Surface=ExtractSurface(Input=reader), EndTime=END_TIME)
@@ -265,6 +271,8 @@ def run_serial_and_compare():
         sbt.check(obstacle_effect > 0.05, "the bodies land on the sphere (the obstacle scene is not the plain one)")
         push_effect = np.abs(final["conditions"] - final["plain"]).max()
         sbt.check(push_effect > 1e-3, f"the force condition moves the bodies (by up to {push_effect:.3f} m)")
+        floor_effect = np.abs(final["floor_under"] - final["plain"]).max()
+        sbt.check(floor_effect > 0.05, f"the floor under the bodies changes where they end (by up to {floor_effect:.3f} m)")
     finally:
             shutil.rmtree(work, ignore_errors=True)
     print("python.mpi passed")
