@@ -2,8 +2,10 @@
 
 #include "vtkSoftBodyConditionCodec.h"
 #include "vtkSoftBodyConditionInput.h"
+#include "vtkSoftBodyArrays.h"
 #include "vtkSoftBodyDistribution.h"
 #include "vtkSoftBodyFloorPlacement.h"
+#include "vtkSoftBodyMethodChoice.h"
 #include "vtkSoftBodyFrameCache.h"
 #include "vtkSoftBodyFrameRunner.h"
 #include "vtkSoftBodyObstacleTimeline.h"
@@ -43,6 +45,10 @@ public:
   vtkSoftBodyConditionInput Conditions; ///< the Conditions input, converted on the body
   std::string FloorWarning;     ///< the floor was placed off FloorOrigin (vtkSoftBodyFloorPlacement)
   std::string FloorWarningSaid; ///< the last one printed, so it is said once
+  /// The properties this pass runs with: the user's, with Method Automatic resolved.
+  vtkSoftBodyParameters Resolved;
+  std::string MethodNote;     ///< what Automatic chose, where it chose XPBD (vtkSoftBodyMethodChoice)
+  std::string MethodNoteSaid; ///< the last one printed
 };
 
 namespace
@@ -220,10 +226,21 @@ int vtkSoftBodyFilter::RequestData(
 
   // The properties become core settings, refused with the user's value. The cache stays on a
   // refusal: correcting the value back finds it still valid.
+  // Method Automatic becomes the method the input's cells need (collective under MPI). The
+  // user's properties stay as they were given; this pass runs with the resolved copy.
+  vtkInternals& internals = *this->Internals;
+  internals.Resolved = this->P;
+  internals.Resolved.Method = vtkSoftBodyMethodChoice::Resolve(
+    this->P.Method, input, vtkSoftBodyDistribution::ParallelController(), internals.MethodNote);
+  if (!internals.MethodNote.empty() && internals.MethodNote != internals.MethodNoteSaid)
+  {
+    vtkWarningMacro(<< internals.MethodNote);
+    internals.MethodNoteSaid = internals.MethodNote;
+  }
   vtkSoftBodyCoreSettings settings;
   try
   {
-    settings = vtkSoftBodySettings::Convert(this->P);
+    settings = vtkSoftBodySettings::Convert(internals.Resolved);
   }
   catch (const softbody::InvalidInputError& e)
   {
@@ -363,7 +380,7 @@ vtkSoftBodyRunResult vtkSoftBodyFilter::Simulate(vtkUnstructuredGrid* input,
   hooks.Progress = [this](double fraction) { this->UpdateProgress(fraction); };
   hooks.Abort = [this] { return this->CheckAbort(); };
   return this->Internals->Simulate(input, settings, obstacles, std::move(deliveredNow), t,
-    this->P, hooks, this->SimulatedStepsTotal);
+    this->Internals->Resolved, hooks, this->SimulatedStepsTotal);
 }
 
 //------------------------------------------------------------------------------
@@ -382,7 +399,7 @@ bool vtkSoftBodyFilter::AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData*
     }
   }
   const std::string inversionWarning = vtkSoftBodyOutputAssembly::FillMesh(input, internals.Built,
-    this->P, { internals.FloorWarning, internals.RunWarning, internals.LandingWarning }, surface ? internals.Skin.GetWarning() : std::string(),
+    internals.Resolved, { internals.MethodNote, internals.FloorWarning, internals.RunWarning, internals.LandingWarning }, surface ? internals.Skin.GetWarning() : std::string(),
     outputs.Mesh);
   if (!inversionWarning.empty() && !internals.InversionSaid)
   {
@@ -390,7 +407,7 @@ bool vtkSoftBodyFilter::AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData*
     internals.InversionSaid = true;
   }
   // When the conditions were changed during playback, and from which frames on.
-  const std::vector<double> changes = internals.ConditionChangeTimes(this->P.FrameInterval);
+  const std::vector<double> changes = internals.ConditionChangeTimes(internals.Resolved.FrameInterval);
   if (!changes.empty())
   {
     vtkNew<vtkDoubleArray> times;
@@ -409,10 +426,12 @@ bool vtkSoftBodyFilter::AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData*
   {
     vtkSoftBodyOutputAssembly::FillSurface(internals.Skin, surface, internals.Built,
       internals.BuiltSettings().SelectedScene(),
-      internals.Obstacles.At(internals.Built.Simulation->time(), 1e-6 * this->P.FrameInterval),
+      internals.Obstacles.At(internals.Built.Simulation->time(), 1e-6 * internals.Resolved.FrameInterval),
       outputs.Surface);
   }
-  vtkSoftBodyOutputAssembly::FillFloor(this->P, internals.BuiltSettings().SelectedScene(), input, outputs);
+  vtkSoftBodyOutputAssembly::FillFloor(internals.Resolved, internals.BuiltSettings().SelectedScene(), input, outputs);
+  outputs.Mesh->GetFieldData()->AddArray(vtkSoftBodyArrays::MakeStringArray(
+    "Method", { vtkSoftBodyMethodChoice::Name(internals.Resolved.Method) }));
   return true;
 }
 

@@ -21,7 +21,8 @@ struct vtkSoftBodyParameters
   {
     MASS_SPRING = 0,
     PBD = 1,
-    XPBD = 2
+    XPBD = 2,
+    METHOD_AUTOMATIC = 3 ///< Mass-Spring for tets, XPBD for linked particles (vtkSoftBodyMethodChoice)
   };
   enum XPBDMaterialType
   {
@@ -103,7 +104,7 @@ struct vtkSoftBodyParameters
     BROAD_PHASE_OCTREE = 3
   };
 
-  int Method = MASS_SPRING;
+  int Method = METHOD_AUTOMATIC;
   int Device = DEVICE_CPU;
   int Integrator = EULER_CROMER;
   double TimeStep = 0.0;

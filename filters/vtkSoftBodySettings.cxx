@@ -323,7 +323,9 @@ vtkSoftBodyCoreSettings vtkSoftBodySettings::Convert(const vtkSoftBodyFilter::Pa
 {
   ValidateTimes(p);
   vtkSoftBodyCoreSettings settings;
-  settings.Method = Choice("Method", p.Method, 3, "0 (Mass-Spring), 1 (PBD), 2 (XPBD)");
+  // Automatic (3) is resolved from the input before this (vtkSoftBodyMethodChoice); it is
+  // listed so that a refusal names every value the property takes.
+  settings.Method = Choice("Method", p.Method, 3, "0 (Mass-Spring), 1 (PBD), 2 (XPBD), 3 (Automatic)");
   settings.FrameInterval = p.FrameInterval;
   settings.PinnedPointsArray =
     vtkSoftBodyInputConversion::IsNoArray(p.PinnedPointsArray) ? "" : p.PinnedPointsArray;

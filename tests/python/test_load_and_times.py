@@ -21,7 +21,7 @@ body = SoftBody(registrationName="SoftBody", Input=reader)
 
 # Defaults of the public API.
 sbt.check(body.GetXMLLabel() == "Soft Body", f"label is 'Soft Body' ({body.GetXMLLabel()!r})")
-sbt.check(body.Method == "Mass-Spring", f"Method default Mass-Spring ({body.Method})")
+sbt.check(body.Method == "Automatic", f"Method default Automatic ({body.Method})")
 sbt.check(body.Integrator == "Euler-Cromer", f"Integrator default Euler-Cromer ({body.Integrator})")
 sbt.check(body.MaterialMode == "Physical", f"MaterialMode default Physical ({body.MaterialMode})")
 sbt.check(body.InvertedTets == "Re-orient", f"InvertedTets default Re-orient ({body.InvertedTets})")

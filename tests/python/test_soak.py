@@ -269,7 +269,7 @@ IGNORED = {
 
 def soak(device, frames, rng, reference):
     label = f"[{device}]"
-    body = SoftBody(Input=reader, Device=device, EndTime=END_TIME, FrameInterval=FRAME_INTERVAL,
+    body = SoftBody(Input=reader, Method="Mass-Spring", Device=device, EndTime=END_TIME, FrameInterval=FRAME_INTERVAL,
                     FloorOrigin=FLOOR_ORIGIN, CacheMemoryLimit=1)
     body.UpdatePipeline(0.0)
     _, _, mesh = frame_of(body)
