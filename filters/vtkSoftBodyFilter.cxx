@@ -432,6 +432,9 @@ bool vtkSoftBodyFilter::AssembleOutputs(vtkUnstructuredGrid* input, vtkPolyData*
   vtkSoftBodyOutputAssembly::FillFloor(internals.Resolved, internals.BuiltSettings().SelectedScene(), input, outputs);
   outputs.Mesh->GetFieldData()->AddArray(vtkSoftBodyArrays::MakeStringArray(
     "Method", { vtkSoftBodyMethodChoice::Name(internals.Resolved.Method) }));
+  const double shown = internals.Built.Simulation->time();
+  internals.Timings.FillTable(shown, outputs.Timings);
+  internals.Timings.AddFields(shown, outputs.Mesh->GetFieldData());
   return true;
 }
 

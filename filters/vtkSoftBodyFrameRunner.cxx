@@ -19,6 +19,7 @@ void vtkSoftBodyFrameRunner::Discard()
   this->Built = vtkSoftBodyBuiltSimulation();
   this->InversionSaid = false;
   this->Cache.Clear();
+  this->Timings.Reset(0.0);
   this->SimulationFrame = -1;
   this->Input = nullptr;
   this->Obstacles.Reset({});
@@ -115,6 +116,7 @@ bool vtkSoftBodyFrameRunner::Prepare(vtkUnstructuredGrid* input,
   // Build the new simulation aside and discard the current one only once that succeeded:
   // core validates the settings (and the input) while it builds, so a value it refuses
   // throws here, and the cached frames must still be there when the value is put back.
+  const auto setupStarted = std::chrono::steady_clock::now();
   vtkSoftBodyBuiltSimulation built;
   std::string error;
   if (!vtkSoftBodySimulationFactory::Build(input, settings, !obstacles.empty(),
@@ -128,6 +130,8 @@ bool vtkSoftBodyFrameRunner::Prepare(vtkUnstructuredGrid* input,
   // cannot collide with obstacles or a bad surface: the current simulation stays.
   vtkSoftBodyObstacleTimeline::SetStaticObstacles(obstacles, *built.Simulation);
   internals.Discard();
+  internals.Timings.Reset(
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStarted).count());
   internals.Built = std::move(built);
   internals.Obstacles.Reset(obstacles);
   internals.Cache.Insert(0, internals.Built.Simulation->state());
@@ -194,6 +198,7 @@ bool vtkSoftBodyFrameRunner::ChangeConditionsLive(vtkUnstructuredGrid* input,
   }
   this->AppliedEpoch = this->ConditionEpochs.size() - 1;
   this->Cache.DropAfter(frame);
+  this->Timings.DropAfter(frame);
   this->SimulationFrame = -1; // resume from the cached frame
   this->Settings = settings;
   return true;
@@ -326,6 +331,8 @@ vtkSoftBodyFrameRunner::Result vtkSoftBodyFrameRunner::AdvanceTo(
     {
       return Result::NeedsObstacles; // still exactly at frame k - 1
     }
+    const std::vector<softbody::StageTiming> stagesBefore = simulation.stageTimings();
+    const auto frameStarted = std::chrono::steady_clock::now();
     if (hooks.Abort() || !runTo(k * p.FrameInterval))
     {
       internals.SimulationFrame = -1; // stopped somewhere inside frame k
@@ -333,6 +340,8 @@ vtkSoftBodyFrameRunner::Result vtkSoftBodyFrameRunner::AdvanceTo(
     }
     internals.SimulationFrame = k;
     internals.Cache.Insert(k, simulation.state());
+    internals.Timings.Record(k, k * p.FrameInterval, stagesBefore, simulation.stageTimings(),
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - frameStarted).count());
     ++framesDone;
     logLongRunProgress(k);
   }

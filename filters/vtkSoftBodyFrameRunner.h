@@ -16,6 +16,7 @@
 
 #include "vtkSoftBodyDistribution.h"
 #include "vtkSoftBodyFrameCache.h"
+#include "vtkSoftBodyFrameTimings.h"
 #include "vtkSoftBodyObstacleTimeline.h"
 #include "vtkSoftBodyParameters.h"
 #include "vtkSoftBodySettings.h"
@@ -71,6 +72,8 @@ public:
   /// The optional render surface's binding to the body (kept while both are unchanged).
   vtkSoftBodySkin Skin;
   vtkSoftBodyFrameCache Cache;
+  /// What each simulated frame, and the set-up, cost (the Timings port).
+  vtkSoftBodyFrameTimings Timings;
   /// Under MPI: this rank's whole bodies, gathered and dealt from the ranks' pieces.
   vtkSoftBodyDistribution Distribution;
   /// The Obstacles input the simulation was built with, and the moving ones over time.

@@ -106,7 +106,8 @@ void AddStepControlFields(const softbody::StepControlReport& report, vtkFieldDat
 //------------------------------------------------------------------------------
 bool vtkSoftBodyOutputAssembly::Outputs::Complete() const
 {
-  return this->Mesh && this->Particles && this->Convergence && this->Surface && this->Floor;
+  return this->Mesh && this->Particles && this->Convergence && this->Surface && this->Floor &&
+    this->Timings;
 }
 
 //------------------------------------------------------------------------------
@@ -117,6 +118,7 @@ const char* vtkSoftBodyOutputAssembly::DataTypeName(vtkSoftBodyOutputPort port)
     case vtkSoftBodyOutputPort::Mesh:
       return "vtkUnstructuredGrid";
     case vtkSoftBodyOutputPort::Convergence:
+    case vtkSoftBodyOutputPort::Timings:
       return "vtkTable";
     default:
       return "vtkPolyData";
@@ -138,6 +140,8 @@ vtkSoftBodyOutputAssembly::Outputs vtkSoftBodyOutputAssembly::Fetch(
     vtkPolyData::GetData(outputVector, vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Surface));
   outputs.Floor =
     vtkPolyData::GetData(outputVector, vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Floor));
+  outputs.Timings =
+    vtkTable::GetData(outputVector, vtkSoftBodyPortNumber(vtkSoftBodyOutputPort::Timings));
   return outputs;
 }
 

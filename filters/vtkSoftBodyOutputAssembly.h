@@ -33,6 +33,7 @@ struct Outputs
   vtkTable* Convergence = nullptr;
   vtkPolyData* Surface = nullptr;
   vtkPolyData* Floor = nullptr;
+  vtkTable* Timings = nullptr;
 
   /// Whether every port has its data object.
   bool Complete() const;

@@ -13,7 +13,8 @@ enum class vtkSoftBodyOutputPort : int
   Convergence = 2, ///< vtkTable: the residual per iteration of the frame's last step
   Surface = 3,     ///< vtkPolyData: the Surface input skinned onto the body
   Floor = 4,       ///< vtkPolyData: the floor plane as a square
-  Count = 5
+  Timings = 5,     ///< vtkTable: the wall time of each stage, per simulated frame
+  Count = 6
 };
 
 /// The port's number, for the VTK calls that take an int.

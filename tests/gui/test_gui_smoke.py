@@ -29,7 +29,7 @@ try:
     body = SoftBody(Input=reader, EndTime=1.0)
     shown = gui_support.apply_like_gui(body)
 
-    expected = {0: "RenderView", 1: None, 2: None, 3: None, 4: "RenderView"}
+    expected = {0: "RenderView", 1: None, 2: None, 3: None, 4: "RenderView", 5: None}
     if shown != expected:
         failures.append("Apply showed ports %s, expected %s" % (shown, expected))
     views = [view.GetXMLName() for view in GetViews()]
