@@ -19,7 +19,7 @@
 namespace
 {
 /// Bodies outside these sizes [m] are warned about as probably in other length units.
-constexpr double kLargestLikelySize = 100.0;
+constexpr double kLargestLikelySize = 10.0;
 constexpr double kSmallestLikelySize = 1e-3;
 
 /// The GPU mass-spring stepper, or null with the reason why not (then the caller falls back
@@ -117,16 +117,26 @@ bool vtkSoftBodySimulationFactory::Build(vtkUnstructuredGrid* input,
   {
     return false;
   }
-  // Lengths are meters: a body hundreds of meters (or under a millimeter) across was most likely
-  // saved in other units, and every density, modulus and the gravity then mean something else.
+  // Lengths are meters: a body over ten meters (or under a millimeter) across was most likely
+  // saved in other units (a 30 cm part in centimeters is 30 "m"), and every density, modulus and
+  // the gravity then mean something else. A warning, not a refusal: large soft bodies exist.
   const double size = input->GetLength();
   if (size > kLargestLikelySize || (size > 0.0 && size < kSmallestLikelySize))
   {
     std::ostringstream message;
     message << "The body is " << size << " m across (its bounding-box diagonal): lengths are taken "
-            << "as meters. If its coordinates are in " << (size > kLargestLikelySize ? "millimeters" : "kilometers")
-            << ", scale it by " << (size > kLargestLikelySize ? "0.001" : "1000")
-            << " first (Filters > Transform, Scale).";
+            << "as meters. ";
+    if (size > kLargestLikelySize)
+    {
+      message << "If its coordinates are in millimeters (" << size * 1e-3 << " m across), scale it by "
+              << "0.001 first; if in centimeters (" << size * 1e-2 << " m), by 0.01 (Filters > "
+              << "Transform, Scale).";
+    }
+    else
+    {
+      message << "If its coordinates are in kilometers (" << size * 1e3 << " m across), scale it by "
+              << "1000 first (Filters > Transform, Scale).";
+    }
     warn(message.str());
   }
   error = vtkSoftBodyInitialState::Apply(input, settings.Initial, *built.Simulation);

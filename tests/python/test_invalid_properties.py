@@ -135,5 +135,15 @@ text = "".join(errors.warnings)
 sbt.check("m across (its bounding-box diagonal): lengths are taken as meters" in text and "millimeters" in text
           and "0.001" in text, f"a body in millimeters is warned with its size and the remedy ({text.strip()[:200]!r})")
 Delete(scaled)
+# In centimeters (47 m across): warned too, naming the factor 0.01.
+centimeters = Transform(Input=reader)
+centimeters.Transform.Scale = [100, 100, 100]
+scaled = SoftBody(Input=centimeters, EndTime=0.1, FrameInterval=0.1, Floor=0)
+errors.clear()
+sbt.output_at(scaled, 0.1)
+text = "".join(errors.warnings)
+sbt.check("centimeters" in text and "0.01" in text and "0.4" in text,
+          f"a body in centimeters is warned with the factor and its size in meters ({text.strip()[:300]!r})")
+Delete(scaled)
 errors.close()
 print("python.invalid_properties passed")
