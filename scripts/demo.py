@@ -395,8 +395,10 @@ def main():
             print("demo: FAILED: the torus ended crushed (more than 2 % off a rigid motion)",
                   file=sys.stderr)
             ok = False
-    print(f"demo: data:      {pvd} ({len(frame_files)} frames in {frames_dir}, with "
-          f"{len(static_parts)} static parts: floor and obstacles)")
+    parts = (["the floor"] if body.Floor else []) + \
+        ([f"{len(obstacles)} obstacle" + ("s" if len(obstacles) > 1 else "")] if obstacles else [])
+    print(f"demo: data:      {pvd} ({len(frame_files)} frames in {frames_dir}"
+          + (f", with {' and '.join(parts)} in every frame)" if parts else ")"))
     print(f"demo: image:     {png}")
     if animated:
         print(f"demo: animation: {gif}")
