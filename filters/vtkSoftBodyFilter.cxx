@@ -224,19 +224,25 @@ int vtkSoftBodyFilter::RequestData(
   vtkPolyData* surface = vtkPolyData::SafeDownCast(surfaceInput);
   vtkInformation* requestInfo = RequestingPortInformation(request, outputVector);
 
-  // The properties become core settings, refused with the user's value. The cache stays on a
-  // refusal: correcting the value back finds it still valid.
+  // A note made from the input is asked again on every time request: it is said once.
+  const auto sayOnce = [this](const std::string& message, std::string& said) {
+    if (!message.empty() && message != said)
+    {
+      vtkWarningMacro(<< message);
+      said = message;
+    }
+  };
+
   // Method Automatic becomes the method the input's cells need (collective under MPI). The
   // user's properties stay as they were given; this pass runs with the resolved copy.
   vtkInternals& internals = *this->Internals;
   internals.Resolved = this->P;
   internals.Resolved.Method = vtkSoftBodyMethodChoice::Resolve(
     this->P.Method, input, vtkSoftBodyDistribution::ParallelController(), internals.MethodNote);
-  if (!internals.MethodNote.empty() && internals.MethodNote != internals.MethodNoteSaid)
-  {
-    vtkWarningMacro(<< internals.MethodNote);
-    internals.MethodNoteSaid = internals.MethodNote;
-  }
+  sayOnce(internals.MethodNote, internals.MethodNoteSaid);
+
+  // The properties become core settings, refused with the user's value. The cache stays on a
+  // refusal: correcting the value back finds it still valid.
   vtkSoftBodyCoreSettings settings;
   try
   {
@@ -253,14 +259,9 @@ int vtkSoftBodyFilter::RequestData(
     input, settings, inputVector[1]->GetNumberOfInformationObjects() > 0, requestInfo);
   // Where the floor goes, from the body (collective under MPI: before a rank without a body
   // returns). Part of the settings, so a body moved under the floor rebuilds the run.
-  this->Internals->FloorWarning = vtkSoftBodyFloorPlacement::Place(this->P.FloorPlacement, input,
+  internals.FloorWarning = vtkSoftBodyFloorPlacement::Place(this->P.FloorPlacement, input,
     vtkSoftBodyDistribution::ParallelController(), settings.SelectedScene());
-  if (!this->Internals->FloorWarning.empty() &&
-    this->Internals->FloorWarning != this->Internals->FloorWarningSaid)
-  {
-    vtkWarningMacro(<< this->Internals->FloorWarning);
-    this->Internals->FloorWarningSaid = this->Internals->FloorWarning;
-  }
+  sayOnce(internals.FloorWarning, internals.FloorWarningSaid);
   if (!input)
   {
     vtkSoftBodyOutputAssembly::StampTime(outputVector, t);

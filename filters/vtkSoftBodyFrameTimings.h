@@ -46,11 +46,12 @@ private:
   struct Frame
   {
     double Time = 0.0;
-    std::vector<std::string> Labels;
-    std::vector<double> Seconds; ///< per label, spent in this frame
+    std::vector<double> Seconds; ///< per entry of Labels (shorter: the later ones not run), spent in this frame
     double Wall = 0.0;
   };
   double SetupSeconds = 0.0;
+  /// The stages' labels, in the order they first ran: the table's columns.
+  std::vector<std::string> Labels;
   std::map<int, Frame> Frames;
 };
 

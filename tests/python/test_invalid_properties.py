@@ -121,29 +121,26 @@ body.CacheMemoryLimit = 512
 errors.clear()
 out = sbt.output_at(body, -5.0)
 sbt.check(not errors.errors and out.GetNumberOfPoints() > 0, "a time before 0 gives frame 0")
-# A body in millimeters (the jelly scaled by 1000, 400 m across) is simulated as meters, with a
-# warning quoting its size and the remedy; the jelly itself is not warned about.
+# A body in millimeters or centimeters (the jelly scaled by 1000 or 100) is simulated as meters,
+# with a warning quoting its size, the factors and what its size would then be, which is the
+# jelly's own; the jelly itself is not warned about.
 errors.clear()
 sbt.output_at(body, 0.1)
 sbt.check(not any("m across" in w for w in errors.warnings), "the jelly (0.4 m) is not warned about its units")
-millimeters = Transform(Input=reader)
-millimeters.Transform.Scale = [1000, 1000, 1000]
-scaled = SoftBody(Input=millimeters, EndTime=0.1, FrameInterval=0.1, Floor=0)
-errors.clear()
-sbt.output_at(scaled, 0.1)
-text = "".join(errors.warnings)
-sbt.check("m across (its bounding-box diagonal): lengths are taken as meters" in text and "millimeters" in text
-          and "0.001" in text, f"a body in millimeters is warned with its size and the remedy ({text.strip()[:200]!r})")
-Delete(scaled)
-# In centimeters (47 m across): warned too, naming the factor 0.01.
-centimeters = Transform(Input=reader)
-centimeters.Transform.Scale = [100, 100, 100]
-scaled = SoftBody(Input=centimeters, EndTime=0.1, FrameInterval=0.1, Floor=0)
-errors.clear()
-sbt.output_at(scaled, 0.1)
-text = "".join(errors.warnings)
-sbt.check("centimeters" in text and "0.01" in text and "0.4" in text,
-          f"a body in centimeters is warned with the factor and its size in meters ({text.strip()[:300]!r})")
-Delete(scaled)
+reader.UpdatePipeline()
+bounds = reader.GetDataInformation().GetBounds()
+jelly_size = sum((bounds[2 * k + 1] - bounds[2 * k]) ** 2 for k in range(3)) ** 0.5
+for unit, scale, factor in (("millimeters", 1000, "0.001"), ("centimeters", 100, "0.01")):
+    rescaled = Transform(Input=reader)
+    rescaled.Transform.Scale = [scale] * 3
+    scaled = SoftBody(Input=rescaled, EndTime=0.1, FrameInterval=0.1, Floor=0)
+    errors.clear()
+    sbt.output_at(scaled, 0.1)
+    text = "".join(errors.warnings)
+    sbt.check("m across (its bounding-box diagonal): lengths are taken as meters" in text and unit in text
+              and factor in text and f"{jelly_size:.3g}" in text,
+              f"a body in {unit} is warned with its size, the remedy and the jelly's {jelly_size:.3g} m "
+              f"({text.strip()[:300]!r})")
+    Delete(scaled)
 errors.close()
 print("python.invalid_properties passed")
