@@ -106,7 +106,7 @@ void MassSpringGpuSimulation::checkDivergence(double maxStretch, bool finiteVelo
   {
     const DynamicState& current = state(); // the message names the time; the state is kept
     throw SimulationDivergedError(divergenceMessage(current, maxStretch, finiteVelocities,
-                                    Host->setup.step, Host->setup.stableStep),
+                                    Host->setup.step, Host->setup.stableStep, Host->setup.selfWeight),
       current.time);
   }
 }

@@ -143,7 +143,7 @@ int main(int argc, char** argv)
           // cost: the other cases and meshes are still measured.
           std::printf("%-22s %8zu  %-15s %-18s blew up: %s\n", named.name.c_str(), named.mesh.tets.size(),
             integratorName(integrator), which.c_str(), error.what());
-          rows.push_back(Row{ named.name, integratorName(integrator), which + " (blew up at 0.9 x the estimated stable step)",
+          rows.push_back(Row{ named.name, integratorName(integrator), which + " (" + bench::blowUpCause(error.what(), "blew up at 0.9 x the estimated stable step") + ")",
             named.mesh.tets.size(), 0.0 });
           continue;
         }

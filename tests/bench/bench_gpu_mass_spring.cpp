@@ -234,7 +234,8 @@ int main(int argc, char** argv)
           materialModelName(c.model), vertexOrderingName(ordering), r.cpuBlowUp.c_str());
         table << "| " << named.name << " | " << named.mesh.tets.size() << " | " << named.mesh.points.size() << " | "
               << materialModelName(c.model) << " | " << vertexOrderingName(ordering) << " | " << renderer
-              << " | blew up on the CPU at the automatic step | | | | " << r.cpuBlowUp.substr(0, r.cpuBlowUp.find(':'))
+              << " | blew up on the CPU at the automatic step | | | | "
+              << bench::blowUpCause(r.cpuBlowUp, r.cpuBlowUp.substr(0, r.cpuBlowUp.find(':')))
               << " |\n";
         continue;
       }

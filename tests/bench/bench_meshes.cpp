@@ -411,4 +411,17 @@ double maxDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
   return largest;
 }
 
+std::string blowUpCause(const std::string& divergenceMessage, const std::string& otherwise)
+{
+  const std::string quoted = "rho g H / E = ";
+  const std::size_t at = divergenceMessage.find(quoted);
+  if (divergenceMessage.find("cannot carry its own weight") == std::string::npos || at == std::string::npos)
+  {
+    return otherwise;
+  }
+  const std::size_t start = at + quoted.size();
+  const std::string strain = divergenceMessage.substr(start, divergenceMessage.find(' ', start) - start);
+  return "collapsed under its own weight (rho g H / E = " + strain + ")";
+}
+
 } // namespace softbody::bench

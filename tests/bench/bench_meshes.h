@@ -60,6 +60,12 @@ const NamedMesh* referenceBox(const std::vector<NamedMesh>& meshes);
 constexpr double kLandingTime = 0.03;
 SceneSettings landingScene(const TetMesh& mesh, bool floor = true, double strainLimit = 1.001);
 
+/// What a benchmark row says of a scene that blew up: "collapsed under its own weight (rho g H
+/// / E = 12.5)" when the message says the body cannot carry its weight (material/self_weight.h;
+/// the public meshes come in their authors' units, the IPC armadillo 115 units tall), else
+/// `otherwise`.
+std::string blowUpCause(const std::string& divergenceMessage, const std::string& otherwise);
+
 /// Largest distance between corresponding points.
 double maxDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b);
 

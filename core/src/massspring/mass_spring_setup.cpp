@@ -11,6 +11,7 @@
 #include "softbody/stability/element_frequency.h"
 #include "softbody/stability/stability.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -239,6 +240,13 @@ MassSpringSetup prepareMassSpring(Body body, const SceneSettings& scene)
         "FloorOrigin below the body to drop it instead.");
     }
   }
+  s.selfWeight = selfWeightStrain(s.mesh, s.constants.restVolume, body.material, s.scene.gravity);
+  const bool held = s.scene.floorActive() || std::find(fixed.begin(), fixed.end(), 1) != fixed.end() ||
+    !s.conditions.heldAxes().empty();
+  if (const std::string collapse = selfWeightWarning(s.selfWeight); held && !collapse.empty())
+  {
+    s.warnings.push_back(collapse);
+  }
   if (s.scene.collisions.bodiesCollide())
   {
     // Bodies placed inside each other are pushed apart at a bounded speed; say so and by how much.
@@ -326,7 +334,7 @@ bool hasDiverged(const SceneSettings& scene, double maxStretch, bool finiteVeloc
 }
 
 std::string divergenceMessage(const DynamicState& state, double maxStretch,
-  bool finiteVelocities, double step, double stableStep)
+  bool finiteVelocities, double step, double stableStep, const SelfWeight& selfWeight)
 {
   std::ostringstream message;
   message << "The simulation blew up at t = " << state.time << " s (step " << state.stepCount
@@ -338,6 +346,12 @@ std::string divergenceMessage(const DynamicState& state, double maxStretch,
   else
   {
     message << "a spring stretched to " << maxStretch << " times its rest length";
+  }
+  if (selfWeight.strain >= kCollapsingSelfWeightStrain)
+  {
+    // Its weight alone crushes it: a smaller step would only take longer to blow up.
+    message << ". " << selfWeightWarning(selfWeight);
+    return message.str();
   }
   message << ". Time step " << step << " s, estimated stable step " << stableStep
           << " s; reduce TimeStep (0 = automatic), add damping or use a symplectic integrator.";

@@ -72,6 +72,7 @@ MassSpringSimulation::MassSpringSimulation(Body body, const SceneSettings& scene
   Conditions.holdPoints(State.time, State.positions, State.velocities);
   Step = setup.step;
   StableStep = setup.stableStep;
+  WeightStrain = setup.selfWeight;
   OmegaMax = setup.omegaMax;
   Warnings = std::move(setup.warnings);
   if (Scene.collisions.on())
@@ -450,7 +451,7 @@ void MassSpringSimulation::checkDivergence() const
   if (hasDiverged(Scene, stretch, finiteVelocities))
   {
     throw SimulationDivergedError(
-      divergenceMessage(State, stretch, finiteVelocities, Step, StableStep), State.time);
+      divergenceMessage(State, stretch, finiteVelocities, Step, StableStep, WeightStrain), State.time);
   }
 }
 

@@ -7,6 +7,7 @@
 #include "softbody/common/state.h"
 #include "softbody/massspring/mass_spring_settings.h"
 #include "softbody/material/mass.h"
+#include "softbody/material/self_weight.h"
 #include "softbody/material/tet_elasticity.h"
 #include "softbody/scene/boundary_conditions.h"
 
@@ -34,6 +35,9 @@ struct MassSpringSetup
   /// Stable step of the same integrator without damping (Euler-Cromer's for Euler) [s]: when it
   /// is much larger than stableStep, damping, not stiffness, limits the step.
   double undampedStableStep = 0.0;
+  /// Whether the body can carry its own weight (warned of when it is held and cannot); a
+  /// blow-up's message names it.
+  SelfWeight selfWeight;
   std::vector<std::string> warnings;
 };
 
@@ -70,7 +74,8 @@ std::string longRunWarning(const StepCost& cost, double duration);
 bool hasDiverged(const SceneSettings& scene, double maxStretch, bool finiteVelocities);
 
 /// The user-facing message of the SimulationDivergedError thrown when hasDiverged().
+/// A body that cannot carry its own weight (selfWeight) is told so, since no step would help.
 std::string divergenceMessage(const DynamicState& state, double maxStretch,
-  bool finiteVelocities, double step, double stableStep);
+  bool finiteVelocities, double step, double stableStep, const SelfWeight& selfWeight);
 
 } // namespace softbody

@@ -151,6 +151,7 @@ private:
   StepCost Cost; // what a run's length depends on (longRunWarning)
   double Step = 0.0;
   double StableStep = 0.0;
+  SelfWeight WeightStrain; ///< the set-up's, for a blow-up's message
   double OmegaMax = 0.0;
   std::vector<std::string> Warnings;
   bool ObstacleStartChecked = false; ///< noteObstacleStart ran on the obstacles of t = 0
