@@ -5,7 +5,10 @@
         [--data-dir data] [--output-dir output/demo]
 
 --example jelly (default): drops the jelly (data/jelly.vtu) onto the floor z = 0 with the
-filter's default settings (mass-spring, 3 s simulated, a frame every 0.04 s) and writes
+filter's default settings (mass-spring, 3 s simulated, a frame every 0.04 s) but for
+MaterialModel = Stable Neo-Hookean, the finite-element material whose E and nu the panel shows
+(the default spring network only approximates it, and flattens 8 of the jelly's bottom tets
+inside out when it lands a second time), and writes
   <output-dir>/softbody.pvd   the run as data: one .vtu per frame under <output-dir>/softbody/
                               (the deformed mesh with Velocity, Displacement, VolumeRatio) and,
                               as further parts of every frame, the floor (the filter's Floor
@@ -19,9 +22,11 @@ with XPBD and renders the torus surface skinned onto the particles (the Surface 
 particles; writes the same four files as torus.* (the pvd's frames: the moving surface, .vtp).
 --example pile: three jellies (one input of three connected bodies) dropped from staggered
 heights onto a block obstacle standing on the floor and onto each other (mass-spring,
-Collisions = Obstacles + Bodies); writes the same four files as pile.*.
+Projective Dynamics, Stable Neo-Hookean, Collisions = Obstacles + Bodies); writes the same four
+files as pile.*.
 Exits with status 1 if an output is missing, the body did not end on the floor (jelly, torus),
-or a pile body ended inside the block or below the floor.
+a pile body ended inside the block or below the floor, or tets turned inside out in some frame
+(jelly: any; pile: more than 1 %).
 """
 
 import argparse
@@ -138,16 +143,18 @@ def build_pipeline(pvs, args, input_file):
         # (in the implicit solve, README) stops them within a metre of the block.
         body = pvs.SoftBody(registrationName="SoftBody", Input=bodies, Obstacles=[block],
                             Collisions="Obstacles + Bodies", Integrator="Projective Dynamics",
+                            MaterialModel="Stable Neo-Hookean",
                             TimeStep=0.002, StaticFriction=0.6, DynamicFriction=0.5, EndTime=2.0)
         print(f"demo: three jellies ({input_file}) onto a block and onto each other: mass-spring "
-              f"({body.Integrator}), Collisions = {body.Collisions}, static / dynamic friction "
+              f"({body.Integrator}, {body.MaterialModel}), Collisions = {body.Collisions}, static / dynamic friction "
               f"{body.StaticFriction:g} / {body.DynamicFriction:g}", flush=True)
         return bodies, body, 0, "three jellies dropped onto a block and each other", [block]
     if args.example == "jelly":
         reader = pvs.XMLUnstructuredGridReader(registrationName="jelly.vtu", FileName=[input_file])
-        body = pvs.SoftBody(registrationName="SoftBody", Input=reader)
+        body = pvs.SoftBody(registrationName="SoftBody", Input=reader,
+                            MaterialModel="Stable Neo-Hookean")
         print(f"demo: {input_file}: mass-spring ({body.Integrator.GetData()}, "
-              f"E = {body.YoungsModulus:g} Pa, nu = {body.PoissonRatio:g}, "
+              f"{body.MaterialModel.GetData()}, E = {body.YoungsModulus:g} Pa, nu = {body.PoissonRatio:g}, "
               f"density {body.Density:g} kg/m^3)", flush=True)
         return reader, body, 0, "jelly dropped on the floor", []
     surface = pvs.XMLPolyDataReader(registrationName="torus.vtp", FileName=[input_file])
@@ -356,6 +363,27 @@ def main():
     if not os.path.isfile(pvsm):
         print(f"demo: FAILED: no state file {pvsm}", file=sys.stderr)
         ok = False
+    if args.example != "torus":
+        # No tet turned inside out in any frame (the frame cache makes the pass free). Bodies
+        # landing on bodies under an implicit integrator (the pile) still invert a few where
+        # they meet: they are held at each other's faces and load them by turns, not solved as
+        # one system; up to 1 % is let pass there, as the unit tests of that landing do.
+        allowed = 0 if args.example == "jelly" else 0.01
+        inverted = []
+        for t in times:
+            body.UpdatePipeline(t)
+            counts = body.GetClientSideObject().GetOutputDataObject(0).GetFieldData().GetArray(
+                "InvertedTets")
+            inverted.append(int(counts.GetTuple1(0)) if counts else 0)
+        body.UpdatePipeline(t_shot)  # the frame the checks below read
+        worst = max(range(len(times)), key=lambda k: inverted[k])
+        print(f"demo: at most {inverted[worst]} tets inverted in a frame"
+              + (f" (t = {times[worst]:g} s)" if inverted[worst] else ""))
+        tets = body.GetClientSideObject().GetOutputDataObject(0).GetNumberOfCells()
+        if inverted[worst] > allowed * tets:
+            print(f"demo: FAILED: {inverted[worst]} of {tets} tets turned inside out "
+                  f"(at most {int(allowed * tets)} allowed)", file=sys.stderr)
+            ok = False
     size = rest_bounds[5] - rest_bounds[4]
     if args.example == "pile":
         import numpy as np

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Soft Body demo: installs what the build and the demo need (Debian bookworm; not the tests'
-# frameworks), builds the plugin, then in pvpython drops a jelly onto a floor (mass-spring;
-# output/demo/softbody.*), a voxelized torus whose surface is skinned onto its particles (XPBD;
+# frameworks), builds the plugin, then in pvpython drops a jelly onto a floor (mass-spring,
+# Stable Neo-Hookean; output/demo/softbody.*), a voxelized torus whose surface is skinned onto its particles (XPBD;
 # output/demo/torus.*) and three jellies onto a block obstacle and each other (mass-spring,
 # Collisions = Obstacles + Bodies; output/demo/pile.*). Each writes its run as data (.pvd, with
 # the floor and obstacles), a picture (.png), an animation (.gif) and a ParaView state (.pvsm).
