@@ -251,6 +251,7 @@ std::string vtkSoftBodyOutputAssembly::FillMesh(vtkUnstructuredGrid* input,
   {
     warnings.push_back(built.DeviceWarning);
   }
+  warnings.insert(warnings.end(), built.InputWarnings.begin(), built.InputWarnings.end());
   for (const std::string& said : beforeRun)
   {
     if (!said.empty())

@@ -137,6 +137,7 @@ bool vtkSoftBodySimulationFactory::Build(vtkUnstructuredGrid* input,
       message << "If its coordinates are in kilometers (" << size * 1e3 << " m across), scale it by "
               << "1000 first (Filters > Transform, Scale).";
     }
+    built.InputWarnings.push_back(message.str());
     warn(message.str());
   }
   error = vtkSoftBodyInitialState::Apply(input, settings.Initial, *built.Simulation);

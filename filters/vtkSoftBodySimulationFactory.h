@@ -16,6 +16,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 struct vtkSoftBodyCoreSettings;
 class vtkUnstructuredGrid;
@@ -32,6 +33,9 @@ struct vtkSoftBodyBuiltSimulation
   int DeviceUsed = vtkSoftBodyParameters::DEVICE_CPU;
   std::string GLRenderer;    ///< the GPU's renderer; empty on the CPU
   std::string DeviceWarning; ///< why the GPU was not used although asked for; empty otherwise
+  /// What the factory itself said of the input (its units), for the Warnings field data: the
+  /// simulation's own warnings do not hold them.
+  std::vector<std::string> InputWarnings;
 };
 
 namespace vtkSoftBodySimulationFactory

@@ -135,12 +135,32 @@ for unit, scale, factor in (("millimeters", 1000, "0.001"), ("centimeters", 100,
     rescaled.Transform.Scale = [scale] * 3
     scaled = SoftBody(Input=rescaled, EndTime=0.1, FrameInterval=0.1, Floor=0)
     errors.clear()
-    sbt.output_at(scaled, 0.1)
+    frame = sbt.output_at(scaled, 0.1)
     text = "".join(errors.warnings)
+    listed = frame.GetFieldData().GetAbstractArray("Warnings")
+    sbt.check(listed is not None and any("m across" in listed.GetValue(i) for i in range(listed.GetNumberOfValues())),
+              f"the Warnings field data of the body in {unit} lists its units warning too")
     sbt.check("m across (its bounding-box diagonal): lengths are taken as meters" in text and unit in text
               and factor in text and f"{jelly_size:.3g}" in text,
               f"a body in {unit} is warned with its size, the remedy and the jelly's {jelly_size:.3g} m "
               f"({text.strip()[:300]!r})")
     Delete(scaled)
+# The jelly in millimeters on the floor cannot carry its own weight either (about 200 m tall at
+# E = 1e5 Pa): the Warnings field data says so with rho g H / E, which the jelly in meters is not
+# told.
+rescaled = Transform(Input=reader)
+rescaled.Transform.Scale = [1000] * 3
+standing = SoftBody(Input=rescaled, EndTime=0.1, FrameInterval=0.1)
+listed = sbt.output_at(standing, 0.1).GetFieldData().GetAbstractArray("Warnings")
+said = [listed.GetValue(i) for i in range(listed.GetNumberOfValues())] if listed else []
+height = 1000 * (bounds[5] - bounds[4])
+expected = standing.Density * 9.81 * height / standing.YoungsModulus
+sbt.check(any("cannot carry its own weight" in w and f"{expected:.3g}" in w for w in said),
+          f"the jelly in millimeters on the floor is told it cannot carry its weight "
+          f"(rho g H / E = {expected:.3g}; {said!r:.300})")
+listed = sbt.output_at(body, 0.1).GetFieldData().GetAbstractArray("Warnings")
+sbt.check(not listed or not any("own weight" in listed.GetValue(i) for i in range(listed.GetNumberOfValues())),
+          "the jelly in meters carries its weight")
+Delete(standing)
 errors.close()
 print("python.invalid_properties passed")
