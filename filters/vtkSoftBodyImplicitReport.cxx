@@ -1,6 +1,7 @@
 #include "vtkSoftBodyImplicitReport.h"
 
 #include "softbody/mesh/reorder.h"
+#include "softbody/massspring/contact_planes.h"
 #include "softbody/massspring/mass_spring_simulation.h"
 
 #include <vtkDoubleArray.h>
@@ -32,6 +33,15 @@ void vtkSoftBodyImplicitReport::AddFields(
   linear->SetName("LinearIterations");
   linear->InsertNextValue(static_cast<vtkIdType>(c.linearIterationsTotal));
   field->AddArray(linear);
+  // The automatic steps split where a contact came too fast for one (contactPieces), and the
+  // steps they became.
+  vtkNew<vtkIdTypeArray> split;
+  split->SetName("ContactSplitSteps");
+  split->SetNumberOfComponents(2);
+  split->SetComponentName(0, "Split");
+  split->SetComponentName(1, "Into");
+  split->InsertNextTuple2(static_cast<double>(c.contactSplitSteps), static_cast<double>(c.contactSplitPieces));
+  field->AddArray(split);
 }
 
 //------------------------------------------------------------------------------
@@ -46,10 +56,11 @@ std::string vtkSoftBodyImplicitReport::ContactWarning(
   message << c.fastContactSteps << " " << integrator
           << " steps reached a contact faster than its elements: in one step of "
           << c.fastestApproachStep << " s a point moved " << c.fastestApproach
-          << " m into the floor or an obstacle, against elements of " << c.fastestApproachSize
+          << " m into the floor, an obstacle or another body, against elements of " << c.fastestApproachSize
           << " m. The step stops it there while the points above it move on, which crushes or "
              "inverts the elements at the contact: take a TimeStep of at most "
-          << c.fastestApproachStep * c.fastestApproachSize / c.fastestApproach << " s.";
+          << c.fastestApproachStep * softbody::kContactApproachFraction * c.fastestApproachSize / c.fastestApproach
+          << " s, or TimeStep 0 (automatic), which splits such steps.";
   return message.str();
 }
 

@@ -22,6 +22,15 @@
 
 namespace softbody
 {
+namespace
+{
+
+/// A step split for a contact is split into at most this many pieces at once, and its pieces at
+/// most this many times again (contactPieces): 64^3 pieces of a frame at the most.
+constexpr int kMaxContactPieces = 64;
+constexpr int kMaxContactSplitDepth = 3;
+
+} // namespace
 
 /// Accelerations a_i = g + w_i (f_i + loads_i) for free points, 0 for pinned and massless ones
 /// and along the components conditions hold.
@@ -99,6 +108,11 @@ MassSpringSimulation::MassSpringSimulation(Body body, const SceneSettings& scene
       BodyElements{ Model, &Constants, isContinuum(Model) ? &TetConstants : nullptr }, Masses,
       Mesh.points, State.positions, &Conditions);
     Implicit->contactPlanes().setElementSizes(pointElementSizes(Topo, Mesh.points));
+    // The automatic step (one per advance() call: a frame) is the project's to choose, so it is
+    // split where a contact needs it; a TimeStep the user set is kept and the run says what it
+    // costs (landingStepWarning, fastContactSteps).
+    SplitsContactSteps = !(Scene.timeStep > 0.0) && Scene.stepControl == StepControl::Fixed &&
+      Scene.integrator != Integrator::Bdf2 && Scene.integrator != Integrator::Static;
   }
 }
 
@@ -221,22 +235,54 @@ void MassSpringSimulation::integrateImplicit(double h)
 
 void MassSpringSimulation::stepOnce(double h)
 {
+  stepSplittingContacts(h, 0);
+}
+
+void MassSpringSimulation::stepSplittingContacts(double h, int depth)
+{
   if (Implicit && Detector && (HasObstacles || Scene.collisions.bodiesCollide()))
   {
     findObstaclePlanes(h);
   }
   if (Implicit && !Implicit->contactPlanes().empty())
   {
+    // Each piece finds its planes again over its own, shorter sweep, and is split again if a
+    // point still comes too fast (it accelerated); kMaxContactSplitDepth bounds that.
+    if (const int pieces = depth < kMaxContactSplitDepth ? contactPieces(h) : 1; pieces > 1)
+    {
+      ImplicitConvergence& report = Implicit->convergence();
+      ++report.contactSplitSteps;
+      report.contactSplitPieces += static_cast<unsigned long long>(pieces);
+      for (int piece = 0; piece < pieces; ++piece)
+      {
+        stepSplittingContacts(h / pieces, depth + 1);
+      }
+      return;
+    }
     noteFastApproach(h);
   }
   takeStep(h);
 }
 
+int MassSpringSimulation::contactPieces(double h) const
+{
+  if (!SplitsContactSteps)
+  {
+    return 1;
+  }
+  const double ratio = fastestApproach(
+    Implicit->contactPlanes(), State.positions, State.velocities, Masses.inverseMass, h).ratio();
+  return ratio > kContactApproachFraction
+    ? static_cast<int>(std::min(std::ceil(ratio / kContactApproachFraction), double(kMaxContactPieces)))
+    : 1;
+}
+
 std::string MassSpringSimulation::landingStepWarning(double step) const
 {
-  // Error-controlled steps shorten themselves where the landing needs it.
+  // Error-controlled steps shorten themselves where the landing needs it, and so does the
+  // automatic step (contactPieces).
   if (!Implicit || !Scene.floorActive() || !(step > 0.0) || !std::isfinite(step) ||
-    Scene.stepControl == StepControl::ErrorControlled)
+    Scene.stepControl == StepControl::ErrorControlled || SplitsContactSteps)
   {
     return "";
   }
@@ -245,7 +291,7 @@ std::string MassSpringSimulation::landingStepWarning(double step) const
   const std::vector<std::int32_t> bodyOf = bodyOfPoints(Mesh, bodies);
   const LandingApproach landing = floorLandingApproach(planes, Scene.floor, Scene.gravity, State.positions,
     State.velocities, Masses.inverseMass, bodyOf, bodies, step);
-  if (landing.approach.ratio() <= 1.0)
+  if (!landing.approach.tooFast())
   {
     return "";
   }
@@ -255,7 +301,8 @@ std::string MassSpringSimulation::landingStepWarning(double step) const
           << landing.speed << " m/s (falling " << landing.height << " m) and move " << landing.approach.approach
           << " m in its landing step, against elements of " << landing.approach.size
           << " m: that step crushes the elements where it lands (inverted tets). Take a TimeStep of at most "
-          << step / landing.approach.ratio() << " s, or an explicit integrator.";
+          << step * kContactApproachFraction / landing.approach.ratio()
+          << " s (TimeStep 0, automatic, splits the landing steps so), or an explicit integrator.";
   return message.str();
 }
 
@@ -267,7 +314,7 @@ void MassSpringSimulation::noteFastApproach(double h)
   // avoids it.
   const ContactApproach fastest = fastestApproach(
     Implicit->contactPlanes(), State.positions, State.velocities, Masses.inverseMass, h);
-  if (fastest.ratio() <= 1.0)
+  if (!fastest.tooFast())
   {
     return;
   }

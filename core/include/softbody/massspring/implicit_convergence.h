@@ -27,6 +27,10 @@ struct ImplicitConvergence
   double fastestApproach = 0.0;     ///< [m]
   double fastestApproachStep = 0.0; ///< its step [s]
   double fastestApproachSize = 0.0; ///< the element size there [m]
+  /// Automatic steps split where a point would reach its contact faster than its elements
+  /// (MassSpringSimulation::contactPieces), and the shorter steps they were split into.
+  unsigned long long contactSplitSteps = 0;
+  unsigned long long contactSplitPieces = 0;
 };
 
 } // namespace softbody

@@ -70,8 +70,9 @@ public:
   const std::vector<std::string>& warnings() const override { return Warnings; }
   /// Said before a run (implicit integrators with the floor): the warning that steps of `step`
   /// land the body on the floor faster than its elements can take in one step, with the step
-  /// that avoids it, from the current positions and velocities; empty when they do not, and
-  /// with error-controlled steps (which shorten themselves).
+  /// that avoids it, from the current positions and velocities; empty when they do not, with
+  /// error-controlled steps (which shorten themselves) and with the automatic step, which is
+  /// split where it would (contactPieces).
   std::string landingStepWarning(double step) const;
   const StepPlan& stepPlan() const override { return Plan; }
   std::string longRunWarning(double duration) const override;
@@ -111,6 +112,16 @@ private:
   void internalForces(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
     std::vector<Vec3>& forces) const;
   void stepOnce(double h);
+  /// stepOnce, split into `contactPieces` shorter steps where that is more than one; `depth`
+  /// counts the splits above this one.
+  void stepSplittingContacts(double h, int depth);
+  /// Into how many equal steps an automatic implicit step of h is split so that no point moves
+  /// into its contact plane (the floor, an obstacle, another body) by more than its elements'
+  /// size in one: such a step stops the point there while the points behind it move on, which
+  /// crushes the elements between. 1 where the step is the user's (TimeStep > 0: told instead,
+  /// landingStepWarning and fastContactSteps), error-controlled, or BDF2's (its history
+  /// assumes the step it was given) or the static solve's.
+  int contactPieces(double h) const;
   void integrateExplicit(double h);
   void integrateImplicit(double h);
   void checkDivergence() const;
@@ -164,6 +175,7 @@ private:
   // the contacts found and what their response did.
   std::unique_ptr<CollisionDetector> Detector;
   bool HasObstacles = false; // the plan lists the collision stages for them
+  bool SplitsContactSteps = false; ///< contactPieces may split: decided at set-up
   std::vector<Vec3> StepStart;
   ContactSet Contacts;
   // Implicit integrators with obstacles: the step's prediction and the contacts swept to it.
