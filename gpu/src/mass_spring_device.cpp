@@ -78,7 +78,8 @@ std::vector<std::int32_t> signedVertexEdges(const Topology& topology)
 }
 
 /// The continuum's per-tet constants as tet_elastic_forces.comp reads them: 4 shape gradients,
-/// then (V0, law mu, law lambda, alpha) and (linear mu, linear lambda, damping time, 0).
+/// then (V0, law mu, law lambda, alpha) and (linear mu, linear lambda, damping time, 0);
+/// alpha is Stable Neo-Hookean's rest shift of J (0 for Corotated, which has none).
 std::vector<double> packShapeGradients(const TetElasticConstants& c)
 {
   std::vector<double> packed(16 * c.shapeGradients.size(), 0.0);
@@ -95,7 +96,7 @@ std::vector<double> packShapeGradients(const TetElasticConstants& c)
   return packed;
 }
 
-std::vector<double> packTetLaws(const TetElasticConstants& c)
+std::vector<double> packTetLaws(const TetElasticConstants& c, MaterialModel model)
 {
   std::vector<double> packed(8 * c.restVolume.size(), 0.0);
   for (std::size_t t = 0; t < c.restVolume.size(); ++t)
@@ -104,7 +105,7 @@ std::vector<double> packTetLaws(const TetElasticConstants& c)
     law[0] = c.restVolume[t];
     law[1] = c.law[t].mu;
     law[2] = c.law[t].lambda;
-    law[3] = StableNeoHookeanLaw::alpha(c.law[t]);
+    law[3] = model == MaterialModel::StableNeoHookean ? StableNeoHookeanLaw::alpha(c.law[t]) : 0.0;
     law[4] = c.linear[t].mu;
     law[5] = c.linear[t].lambda;
     law[6] = c.damped ? c.dampingTime[t] : 0.0;
@@ -137,6 +138,7 @@ MassSpringDevice::MassSpringDevice(
   , TetCount(setup.topology.tets.size())
   , HasVolumeTerm(setup.constants.hasVolumeTerm)
   , Continuum(isContinuum(setup.model))
+  , Corotated(setup.model == MaterialModel::Corotated)
   , Clock(static_cast<std::size_t>(Stage::Count))
 {
   static_assert(sizeof(Edge) == 2 * sizeof(std::int32_t), "Edge must be two packed int32 (ivec2)");
@@ -154,12 +156,8 @@ MassSpringDevice::MassSpringDevice(
   InverseMasses = StorageBuffer::fromVector("inverse masses", setup.masses.inverseMass);
   if (Continuum)
   {
-    if (setup.model != MaterialModel::StableNeoHookean)
-    {
-      throw std::logic_error("the GPU has only Stable Neo-Hookean tets"); // tryCreateGpuMassSpring refuses
-    }
     ShapeGradients = StorageBuffer::fromVector("shape gradients", packShapeGradients(setup.tetConstants));
-    TetLaws = StorageBuffer::fromVector("tet materials", packTetLaws(setup.tetConstants));
+    TetLaws = StorageBuffer::fromVector("tet materials", packTetLaws(setup.tetConstants, setup.model));
     CornerForces = vectorBuffer("tet corner forces", 4 * TetCount);
   }
 
@@ -234,10 +232,11 @@ const ComputeProgram& MassSpringDevice::bound(const ComputeProgram& program,
 
 void MassSpringDevice::tetElasticAccelerations(const StorageBuffer& x, const StorageBuffer& v)
 {
-  bound(Kernels.tetElasticForces,
+  const ComputeProgram& stress = bound(Kernels.tetElasticForces,
     { { "Tets", &Tets }, { "ShapeGradients", &ShapeGradients }, { "TetLaws", &TetLaws },
-      { "InPositions", &x }, { "InVelocities", &v }, { "CornerForces", &CornerForces } })
-    .dispatch(TetCount);
+      { "InPositions", &x }, { "InVelocities", &v }, { "CornerForces", &CornerForces } });
+  stress.set("corotated", Corotated);
+  stress.dispatch(TetCount);
 
   double gravity[3];
   toArray(Scene.gravity, gravity);

@@ -65,7 +65,8 @@ private:
   std::size_t EdgeCount = 0;
   std::size_t TetCount = 0;
   bool HasVolumeTerm = false;
-  bool Continuum = false; ///< finite-element tets (Stable Neo-Hookean) instead of the network
+  bool Continuum = false; ///< finite-element tets instead of the network
+  bool Corotated = false; ///< the tets' model: Corotated, else Stable Neo-Hookean
 
   MassSpringKernels Kernels;
   StageClock Clock;

@@ -217,13 +217,6 @@ std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(
     whyNot = "the GPU backend runs fixed steps only, and TimeStepMode is Error-controlled.";
     return nullptr;
   }
-  if (isContinuum(body.material.model) && body.material.model != MaterialModel::StableNeoHookean)
-  {
-    // Corotated's stress needs F's rotation (an SVD per tet), which the GPU does not compute yet.
-    whyNot = std::string("the GPU backend has the Spring Network and Stable Neo-Hookean, not MaterialModel ") +
-      materialModelName(body.material.model) + ".";
-    return nullptr;
-  }
   if (body.material.volumetric == VolumetricFormulation::NodalAverage)
   {
     whyNot = "the GPU backend has each tet's own volume term only, and VolumetricFormulation is Nodal Average.";

@@ -14,7 +14,7 @@ struct MassSpringKernels
   ComputeProgram springForces;
   ComputeProgram volumeForces;
   ComputeProgram gatherAccelerations;
-  ComputeProgram tetElasticForces; ///< Stable Neo-Hookean tets
+  ComputeProgram tetElasticForces; ///< Corotated or Stable Neo-Hookean tets
   ComputeProgram gatherCornerForces;
   ComputeProgram eulerStep;
   ComputeProgram midpointPredict;

@@ -8,8 +8,9 @@
 // GPU: read them as a correctness run, not as performance.
 //
 // Each mesh runs with the Spring Network as given and with its vertices renumbered along a
-// Morton curve (mesh/reorder.h), then with Stable Neo-Hookean tets renumbered, each compared
-// with the CPU stepper on the same ordering and material.
+// Morton curve (mesh/reorder.h), then with Stable Neo-Hookean and Corotated tets renumbered,
+// each compared with the CPU stepper on the same ordering and material (Corotated to rounding:
+// the GPU finds each tet's rotation by another SVD algorithm).
 //
 // Usage: bench_gpu_mass_spring [--smoke] [--data <shared data dir>] [--csv <file>]
 //                              [--mesh <name or file>]
@@ -154,7 +155,8 @@ int main(int argc, char** argv)
   };
   const Case cases[] = { { MaterialModel::SpringNetwork, VertexOrdering::Input },
     { MaterialModel::SpringNetwork, kDefaultVertexOrdering },
-    { MaterialModel::StableNeoHookean, kDefaultVertexOrdering } };
+    { MaterialModel::StableNeoHookean, kDefaultVertexOrdering },
+    { MaterialModel::Corotated, kDefaultVertexOrdering } };
   for (const auto& named : meshes)
   {
     // Smoke on the generated boxes: the landing scene (floor and strain limiter acting; checked
@@ -253,10 +255,17 @@ int main(int argc, char** argv)
           << 1e3 * r.gpuSecondsPerStep << ',' << r.cpuSecondsPerStep / r.gpuSecondsPerStep << ','
           << 1e3 * r.downloadSeconds << ',' << r.relativeDifference << ',' << (r.bitwiseEqual ? 1 : 0)
           << ",\"" << renderer << "\"\n";
-      if (!(r.relativeDifference <= 1e-9))
+      // Mesa reproduces the CPU's rounding and the kernels its order of operations, except for
+      // Corotated's rotation (another SVD algorithm). Where anything rounds apart, a point at a
+      // threshold (the landing's strain limit of 1.001) can decide the other way, which moves
+      // it by up to the limiter's correction: measured 3e-8 m on box_1080 from differences of
+      // 1e-17 m before the landing. Those runs get the tests' bound after threshold stages.
+      const bool software = renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
+      const double tolerance = software && c.model != MaterialModel::Corotated ? 1e-9 : 2e-4;
+      if (!(r.relativeDifference <= tolerance))
       {
-        std::fprintf(stderr, "error: GPU and CPU differ by %g of the body size (tolerance 1e-9)\n",
-          r.relativeDifference);
+        std::fprintf(stderr, "error: GPU and CPU differ by %g of the body size (tolerance %g)\n",
+          r.relativeDifference, tolerance);
         return 1;
       }
       if (landing && ordering == VertexOrdering::Input && c.model == MaterialModel::SpringNetwork)
