@@ -36,3 +36,17 @@ double norm3(dvec3 a)
 {
   return sqrt(dot3(a, a));
 }
+
+/// `a` with the components a point's conditions hold zeroed (core: filterHeld); bit k of
+/// `heldAxes` set: component k is held.
+dvec3 withoutHeldAxes(dvec3 a, uint heldAxes)
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    if ((heldAxes & (1u << uint(k))) != 0u)
+    {
+      a[k] = 0.0lf;
+    }
+  }
+  return a;
+}

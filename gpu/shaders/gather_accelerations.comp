@@ -1,7 +1,8 @@
 // Pass 2 (core: computeInternalForces' gather, then MassSpringSimulation::Forces). One
 // invocation per vertex sums its own springs and tet corners in CSR order, so no two
 // invocations write the same memory and the sum order is fixed: deterministic without atomics.
-// Then a_i = g + w_i f_i for free points, 0 for pinned (w_i = 0) ones.
+// Then the conditions' loads are added and a_i = g + w_i f_i for free points, 0 for pinned
+// (w_i = 0) ones and along held components.
 //
 // CSR buffers hold [offsets (vertexCount + 1) | items]. Spring items are the edge index when
 // this vertex is the edge's end a, and ~edge (negative) when it is end b, which carries the
@@ -14,9 +15,13 @@ layout(std430, binding = 4) readonly buffer Tets { ivec4 tets[]; };
 layout(std430, binding = 5) readonly buffer InPositions { dvec4 inPositions[]; };
 layout(std430, binding = 6) readonly buffer InverseMasses { double inverseMasses[]; };
 layout(std430, binding = 7) writeonly buffer Accelerations { dvec4 accelerations[]; };
+layout(std430, binding = 8) readonly buffer Loads { dvec4 loads[]; };     // [N], if hasLoads
+layout(std430, binding = 9) readonly buffer HeldAxes { uint heldAxes[]; }; // if hasHeldAxes
 
 uniform bool hasVolumeTerm;
 uniform dvec3 gravity;
+uniform bool hasLoads;
+uniform bool hasHeldAxes;
 
 /// dV/dp of one corner (core: cornerVolumeGradient): a cyclic relabelling keeps the sign.
 dvec3 cornerVolumeGradient(ivec4 tet, int corner)
@@ -60,7 +65,12 @@ void main()
       sum += tetScales[t] * cornerVolumeGradient(tets[t], tetCorner % 4);
     }
   }
+  if (hasLoads)
+  {
+    sum += loads[i].xyz; // core adds the loads to the internal forces
+  }
   double w = inverseMasses[i];
   precise dvec3 a = gravity + w * sum;
-  accelerations[i] = dvec4(w == 0.0lf ? dvec3(0.0lf) : a, 0.0lf);
+  dvec3 result = w == 0.0lf ? dvec3(0.0lf) : a;
+  accelerations[i] = dvec4(hasHeldAxes ? withoutHeldAxes(result, heldAxes[i]) : result, 0.0lf);
 }

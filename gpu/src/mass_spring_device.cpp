@@ -139,6 +139,7 @@ MassSpringDevice::MassSpringDevice(
   , HasVolumeTerm(setup.constants.hasVolumeTerm)
   , Continuum(isContinuum(setup.model))
   , Corotated(setup.model == MaterialModel::Corotated)
+  , Held(setup.conditions, setup.mesh.points)
   , Clock(static_cast<std::size_t>(Stage::Count))
 {
   static_assert(sizeof(Edge) == 2 * sizeof(std::int32_t), "Edge must be two packed int32 (ivec2)");
@@ -205,8 +206,9 @@ void MassSpringDevice::downloadState(
   fromDvec4(packed, velocities);
 }
 
-void MassSpringDevice::computeAccelerations(const StorageBuffer& x, const StorageBuffer& v)
+void MassSpringDevice::computeAccelerations(const StorageBuffer& x, const StorageBuffer& v, double t)
 {
+  Held.updateLoads(t); // before the clock: a host computation and an upload, not GPU work
   Clock.begin(static_cast<std::size_t>(Stage::Forces));
   if (Continuum)
   {
@@ -244,7 +246,27 @@ void MassSpringDevice::tetElasticAccelerations(const StorageBuffer& x, const Sto
     { { "CornerForces", &CornerForces }, { "VertexTetCorners", &VertexTetCorners },
       { "InverseMasses", &InverseMasses }, { "Accelerations", &Accelerations } });
   gather.set("gravity", gravity);
+  bindConditions(gather);
   gather.dispatch(VertexCount);
+}
+
+void MassSpringDevice::bindConditions(const ComputeProgram& gather)
+{
+  gather.bind("Loads", Held.loads());
+  gather.bind("HeldAxes", Held.heldAxes());
+  gather.set("hasLoads", Held.hasLoads());
+  gather.set("hasHeldAxes", Held.hasHeldPoints());
+}
+
+void MassSpringDevice::holdPoints(double t)
+{
+  Held.updateHeldTargets(t);
+  Clock.begin(static_cast<std::size_t>(Stage::Integrate));
+  bound(Kernels.holdPoints,
+    { { "HeldPoints", &Held.heldPoints() }, { "HeldAxes", &Held.heldAxes() },
+      { "HeldTargets", &Held.heldTargets() }, { "Positions", &Positions }, { "Velocities", &Velocities } })
+    .dispatch(Held.heldPointCount());
+  Clock.end();
 }
 
 void MassSpringDevice::springNetworkAccelerations(const StorageBuffer& x, const StorageBuffer& v)
@@ -269,6 +291,7 @@ void MassSpringDevice::springNetworkAccelerations(const StorageBuffer& x, const 
       { "InverseMasses", &InverseMasses }, { "Accelerations", &Accelerations } });
   gather.set("hasVolumeTerm", HasVolumeTerm);
   gather.set("gravity", gravity);
+  bindConditions(gather);
   gather.dispatch(VertexCount);
 }
 
@@ -290,11 +313,11 @@ void MassSpringDevice::runUpdate(const ComputeProgram& program,
   Clock.end();
 }
 
-void MassSpringDevice::integrate(double h, double kick)
+void MassSpringDevice::integrate(double h, double kick, double t)
 {
   // The integrators of core's explicit_integrators.cpp; force evaluations are timed as
   // "forces", the update kernels as "integrate".
-  computeAccelerations(Positions, Velocities);
+  computeAccelerations(Positions, Velocities, t);
   switch (Scene.integrator)
   {
     case Integrator::Euler:
@@ -304,7 +327,7 @@ void MassSpringDevice::integrate(double h, double kick)
       runUpdate(Kernels.midpointPredict,
         { { "MidPositions", &MidPositions }, { "MidVelocities", &MidVelocities } },
         { { "halfH", 0.5 * h } });
-      computeAccelerations(MidPositions, MidVelocities);
+      computeAccelerations(MidPositions, MidVelocities, t + 0.5 * h);
       runUpdate(Kernels.midpointStep, { { "MidVelocities", &MidVelocities } }, { { "h", h } });
       break;
     case Integrator::Verlet:
@@ -376,14 +399,18 @@ void MassSpringDevice::resolveFloor(double h)
   Clock.end();
 }
 
-void MassSpringDevice::step(double h, double kick)
+void MassSpringDevice::step(double h, double kick, double t)
 {
   // Core's stage order (MassSpringSimulation::takeStep).
   if (HasFloor)
   {
     StartPositions.copyFrom(Positions); // the contacts are swept from the step's start
   }
-  integrate(h, kick);
+  integrate(h, kick, t);
+  if (Held.hasHeldPoints())
+  {
+    holdPoints(t + h); // core's state.time after the step: t + h, summed the same way
+  }
   if (LimitsStrain)
   {
     limitStrain(h);

@@ -3,6 +3,7 @@
 // runs on the GL thread with the context current.
 #pragma once
 
+#include "condition_buffers.h"
 #include "mass_spring_kernels.h"
 #include "stage_clock.h"
 #include "storage_buffer.h"
@@ -31,20 +32,26 @@ public:
   void uploadState(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities);
   void downloadState(std::vector<Vec3>& positions, std::vector<Vec3>& velocities) const;
 
-  /// One step of size h: integrate (forces inside), strain limit, floor. `kick` is the
-  /// velocity kick of Verlet (ignored by the other integrators).
-  void step(double h, double kick);
+  /// One step of size h from time t: integrate (forces and loads inside), hold the held
+  /// points, strain limit, floor. `kick` is the velocity kick of Verlet (ignored by the
+  /// other integrators).
+  void step(double h, double kick, double t);
+  /// The conditions got new values (a widget moved): they are uploaded before the next step.
+  void conditionValuesChanged() { Held.valuesChanged(); }
   DivergenceProbe probeDivergence();
 
   /// GPU time per Stage so far, indexed by the enum (waits for the GPU to finish what was timed).
   const std::vector<double>& stageSeconds();
 
 private:
-  /// Accelerations at the state (x, v) into Accelerations.
-  void computeAccelerations(const StorageBuffer& x, const StorageBuffer& v);
+  /// Accelerations at the state (x, v) and time t into Accelerations.
+  void computeAccelerations(const StorageBuffer& x, const StorageBuffer& v, double t);
+  /// The loads and held components' buffers bound to a gather kernel, and its uniforms.
+  void bindConditions(const ComputeProgram& gather);
+  void holdPoints(double t);
   void springNetworkAccelerations(const StorageBuffer& x, const StorageBuffer& v);
   void tetElasticAccelerations(const StorageBuffer& x, const StorageBuffer& v);
-  void integrate(double h, double kick);
+  void integrate(double h, double kick, double t);
   /// `program` made current with `buffers` bound to its storage blocks by name; set its
   /// uniforms, then dispatch.
   static const ComputeProgram& bound(const ComputeProgram& program,
@@ -69,6 +76,7 @@ private:
   bool Corotated = false; ///< the tets' model: Corotated, else Stable Neo-Hookean
 
   MassSpringKernels Kernels;
+  ConditionBuffers Held; ///< loads, held components and their targets
   StageClock Clock;
 
   // Constants (uploaded once).

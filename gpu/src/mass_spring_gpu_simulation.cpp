@@ -41,6 +41,7 @@ MassSpringGpuSimulation::MassSpringGpuSimulation(const Body& body, const SceneSe
 {
   Host->plan = planMassSpring(Host->setup);
   Host->plan.add(Stage::Transfers);
+  Host->setup.conditions.holdPoints(State.time, State.positions, State.velocities); // as the CPU starts
   const SceneSettings& prepared = Host->setup.scene;
   if (prepared.floorActive())
   {
@@ -120,9 +121,11 @@ AdvanceStatus MassSpringGpuSimulation::advance(double endTime, const ProgressCal
     const double firstKick = 0.5 * (State.previousStep + h);
     const double laterKick = 0.5 * (h + h);
     LastProbe = Gl->run([&] {
+      double t = State.time; // core sums h within a batch, and advanceInEqualSteps sets it after
       for (unsigned long long s = 0; s < count; ++s)
       {
-        Device->step(h, s == 0 ? firstKick : laterKick);
+        Device->step(h, s == 0 ? firstKick : laterKick, t);
+        t += h;
       }
       return Device->probeDivergence();
     });
@@ -167,6 +170,40 @@ TetStressField MassSpringGpuSimulation::stressField() const
   // Only for output frames: computed on the host from the downloaded positions.
   const MassSpringSetup& s = Host->setup;
   return isContinuum(s.model) ? tetStressField(s.topology, s.tetConstants, state().positions) : TetStressField{};
+}
+
+ConditionReadout MassSpringGpuSimulation::conditionReadout() const
+{
+  const MassSpringSetup& s = Host->setup;
+  if (s.conditions.empty())
+  {
+    return {};
+  }
+  const DynamicState& current = state();
+  std::vector<Vec3> internal;
+  if (isContinuum(s.model))
+  {
+    TetElasticScratch scratch;
+    computeTetElasticForces(s.topology, s.tetConstants, current.positions, current.velocities, scratch, internal);
+  }
+  else
+  {
+    ForceScratch scratch;
+    computeInternalForces(s.topology, s.constants, current.positions, current.velocities, scratch, internal);
+  }
+  return s.conditions.readout(current.time, current.positions, internal, s.masses.mass, s.scene.gravity);
+}
+
+bool MassSpringGpuSimulation::setConditionValues(const std::vector<Condition>& conditions)
+{
+  BoundaryConditions& held = Host->setup.conditions;
+  if (!held.sameStructure(conditions))
+  {
+    return false;
+  }
+  held.replaceValues(conditions);
+  Gl->run([this] { Device->conditionValuesChanged(); });
+  return true;
 }
 
 double MassSpringGpuSimulation::stepSize() const
@@ -222,11 +259,16 @@ std::unique_ptr<MassSpringGpuSimulation> tryCreateGpuMassSpring(
     whyNot = "the GPU backend has each tet's own volume term only, and VolumetricFormulation is Nodal Average.";
     return nullptr;
   }
-  if (!body.conditions.empty())
+  for (const Condition& c : body.conditions)
   {
-    whyNot = "the GPU backend has no loads or boundary conditions yet, and the body has " +
-      std::to_string(body.conditions.size()) + " (Conditions input).";
-    return nullptr;
+    if (c.kind == ConditionKind::Pressure || c.kind == ConditionKind::Pull)
+    {
+      // Their loads follow the deformed body; the GPU's loads come from the host, once per
+      // change, not from the positions every step.
+      whyNot = std::string("the GPU backend has Fixed, Prescribed Motion and Force conditions, not ") +
+        conditionKindName(c.kind) + " (condition \"" + c.name + "\").";
+      return nullptr;
+    }
   }
   try
   {

@@ -17,6 +17,7 @@ MassSpringKernels::MassSpringKernels()
   , kickDrift("kick_drift", shaders::kKickDriftSource)
   , strainCorrections("strain_corrections", shaders::kStrainCorrectionsSource)
   , strainApply("strain_apply", shaders::kStrainApplySource)
+  , holdPoints("hold_points", shaders::kHoldPointsSource)
   , floorContacts("floor_contacts", shaders::kFloorContactsSource)
   , divergencePartials("divergence_partials", shaders::kDivergencePartialsSource)
 {

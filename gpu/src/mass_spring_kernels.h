@@ -22,6 +22,7 @@ struct MassSpringKernels
   ComputeProgram kickDrift;
   ComputeProgram strainCorrections;
   ComputeProgram strainApply;
+  ComputeProgram holdPoints;
   ComputeProgram floorContacts;
   ComputeProgram divergencePartials;
 };

@@ -6,7 +6,8 @@ Mesa's llvmpipe (they are bitwise equal there), within 2e-4 on a hardware GPU, w
 multiply-adds can turn a contact's stick-or-slide decision at its threshold (unit.gpu_* tests
 state the measured bounds). The GPU run gives no warning. Stable Neo-Hookean and Corotated run on
 the GPU with the same result; VolumetricFormulation Nodal Average falls back to the CPU naming
-itself. Field data Device and GLRenderer say
+itself. A Fixed and a Force condition run on the GPU with the CPU's states and Reaction arrays;
+a Pressure falls back naming itself. Field data Device and GLRenderer say
 where it ran. Where no EGL/OpenGL 4.3 context can be made the filter falls back to the CPU with
 a warning: that is checked, and the test reports SKIP (77)."""
 
@@ -75,3 +76,33 @@ warnings = gpu_nodal.GetFieldData().GetAbstractArray("Warnings")
 texts = [warnings.GetValue(i) for i in range(warnings.GetNumberOfValues())] if warnings else []
 sbt.check(any("GPU (EGL) is unavailable" in t and "Nodal Average" in t for t in texts),
           f"the Nodal Average fallback names itself ({texts!r})")
+
+# Conditions through the filter: the jelly held by its bottom (Fixed) and pushed sideways at its
+# top (Force) runs on the GPU with the CPU's states and reactions; a Pressure falls back.
+bounds = reader.GetDataInformation().GetBounds()
+bottom = SoftBodyCondition(Input=reader, ConditionName="bottom", ConditionType="Fixed", Region="Half-space",
+                           PlaneOrigin=[0, 0, bounds[4] + 0.01 * size], PlaneNormal=[0, 0, -1])
+push = SoftBodyCondition(Input=reader, ConditionName="push", ConditionType="Force", Region="Half-space",
+                         PlaneOrigin=[0, 0, bounds[5] - 0.1 * size], PlaneNormal=[0, 0, 1], Force=[2.0, 0, 0])
+held_meshes = {}
+for device in ("CPU", "GPU (EGL)"):
+    held_meshes[device] = sbt.output_at(SoftBody(Input=reader, EndTime=0.3, Conditions=[bottom, push],
+                                                 Device=device), 0.3)
+held_gpu, held_cpu = held_meshes["GPU (EGL)"], held_meshes["CPU"]
+sbt.check(held_gpu.GetFieldData().GetAbstractArray("Device").GetValue(0) == "GPU (EGL)",
+          "Fixed and Force conditions ran on the GPU")
+held_difference = float(np.abs(sbt.points_of(held_gpu) - sbt.points_of(held_cpu)).max())
+sbt.check(held_difference <= bound * size, f"conditions: GPU matches CPU after 0.3 s (max difference {held_difference:.2e} m)")
+reaction_cpu = sbt.point_array(held_cpu, "Reaction")
+reaction_gpu = sbt.point_array(held_gpu, "Reaction")
+largest = float(np.abs(reaction_cpu).max())
+sbt.check(largest > 0.1, f"the support reacts ({largest:.3f} N at most)")
+sbt.check(float(np.abs(reaction_gpu - reaction_cpu).max()) <= 1e-6 * largest, "conditions: the GPU's Reaction is the CPU's")
+inflate = SoftBodyCondition(Input=reader, ConditionName="inflate", ConditionType="Pressure", Region="Half-space",
+                            PlaneOrigin=[0, 0, bounds[5] - 0.1 * size], PlaneNormal=[0, 0, 1], Pressure=100.0)
+pressed = sbt.output_at(SoftBody(Input=reader, EndTime=0.1, Conditions=[bottom, inflate], Device="GPU (EGL)"), 0.1)
+sbt.check(pressed.GetFieldData().GetAbstractArray("Device").GetValue(0) == "CPU", "a Pressure condition ran on the CPU")
+warnings = pressed.GetFieldData().GetAbstractArray("Warnings")
+texts = [warnings.GetValue(i) for i in range(warnings.GetNumberOfValues())] if warnings else []
+sbt.check(any("GPU (EGL) is unavailable" in t and '"inflate"' in t for t in texts),
+          f"the Pressure fallback names the condition ({texts!r})")

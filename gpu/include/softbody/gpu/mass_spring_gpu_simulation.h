@@ -51,7 +51,13 @@ public:
   double totalMass() const override;
   std::vector<double> tetVolumeRatios() const override;
   double elasticEnergy() const override; ///< the body's material's, from the downloaded positions
-  TetStressField stressField() const override; ///< Stable Neo-Hookean tets; empty for the network
+  TetStressField stressField() const override; ///< the continuum's tets; empty for the network
+  /// The supports' reactions, from the internal forces the host computes at the downloaded
+  /// state (core's code: only for output frames).
+  ConditionReadout conditionReadout() const override;
+  /// New values for the same conditions (a widget moved while the animation plays); false,
+  /// as on the CPU, when their structure differs.
+  bool setConditionValues(const std::vector<Condition>& conditions) override;
   double stepSize() const override;
   double estimatedStableStep() const override;
   const std::vector<std::string>& warnings() const override;
@@ -66,7 +72,7 @@ private:
   struct Prepared;
   void checkDivergence(double maxStretch, bool finiteVelocities) const;
 
-  std::unique_ptr<Prepared> Host; // core's set-up: host-side, immutable
+  std::unique_ptr<Prepared> Host; // core's set-up: host-side, immutable but for condition values
   mutable DynamicState State;     // host copy; positions/velocities stale when HostStale
   mutable bool HostStale = false;
   DivergenceProbe LastProbe; // of the last batch of steps
