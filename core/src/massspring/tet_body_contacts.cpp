@@ -12,19 +12,7 @@ namespace softbody
 {
 std::vector<std::int32_t> bodyOfPoints(const TetMesh& mesh, std::int32_t& bodies)
 {
-  std::vector<std::int64_t> offsets(mesh.tets.size() + 1);
-  std::vector<std::int64_t> cellPoints;
-  cellPoints.reserve(4 * mesh.tets.size());
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-  {
-    offsets[t] = static_cast<std::int64_t>(4 * t);
-    for (std::int32_t v : mesh.tets[t])
-    {
-      cellPoints.push_back(v);
-    }
-  }
-  offsets.back() = static_cast<std::int64_t>(cellPoints.size());
-  const Components components = connectedComponents(mesh.points.size(), offsets, cellPoints);
+  const Components components = tetComponents(mesh.points.size(), mesh.tets);
   std::vector<std::int32_t> bodyOf(mesh.points.size(), -1);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
   {

@@ -18,15 +18,7 @@ SelfWeight selfWeightStrain(const TetMesh& mesh, const std::vector<double>& rest
     return {};
   }
   const Vec3 down = gravity / g;
-  std::vector<std::int64_t> offsets(mesh.tets.size() + 1), cellPoints;
-  cellPoints.reserve(4 * mesh.tets.size());
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-  {
-    offsets[t] = static_cast<std::int64_t>(4 * t);
-    cellPoints.insert(cellPoints.end(), mesh.tets[t].begin(), mesh.tets[t].end());
-  }
-  offsets.back() = static_cast<std::int64_t>(cellPoints.size());
-  const Components bodies = connectedComponents(mesh.points.size(), offsets, cellPoints);
+  const Components bodies = tetComponents(mesh.points.size(), mesh.tets);
 
   struct Sums
   {

@@ -85,4 +85,17 @@ Components connectedComponents(std::size_t pointCount, const std::vector<std::in
   return result;
 }
 
+Components tetComponents(std::size_t pointCount, const std::vector<Tet>& tets)
+{
+  std::vector<std::int64_t> offsets(tets.size() + 1), cellPoints;
+  cellPoints.reserve(4 * tets.size());
+  for (std::size_t t = 0; t < tets.size(); ++t)
+  {
+    offsets[t] = static_cast<std::int64_t>(4 * t);
+    cellPoints.insert(cellPoints.end(), tets[t].begin(), tets[t].end());
+  }
+  offsets.back() = static_cast<std::int64_t>(cellPoints.size());
+  return connectedComponents(pointCount, offsets, cellPoints);
+}
+
 } // namespace softbody

@@ -1,6 +1,8 @@
 // Bodies of a mesh: cells that share a point belong to one body (connected component).
 #pragma once
 
+#include "softbody/common/geometry.h"
+
 #include <cstdint>
 #include <vector>
 
@@ -18,5 +20,8 @@ struct Components
 /// their first cell, so the numbering does not depend on anything but the cell order.
 Components connectedComponents(std::size_t pointCount, const std::vector<std::int64_t>& cellOffsets,
   const std::vector<std::int64_t>& cellPoints);
+
+/// The same for tets: the bodies a tet mesh's tets form.
+Components tetComponents(std::size_t pointCount, const std::vector<Tet>& tets);
 
 } // namespace softbody
