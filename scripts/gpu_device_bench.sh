@@ -9,8 +9,8 @@
 #   scripts/gpu_device_bench.sh run
 #       There, with `carry: [".gpubench", ".gl"]`: unpacks, checks that the GPU context is the
 #       NVIDIA one, runs the smoke parity check (GPU against CPU on the landing boxes), then ms
-#       per step, GPU against CPU in the same run, for the Spring Network and Stable Neo-Hookean
-#       on the ~150k-tet TetGen ellipsoid and a ~1M-tet one. CSVs and the logs go to $OUT (or
+#       per step, GPU against CPU in the same run, for the Spring Network, Stable Neo-Hookean and
+#       Corotated on the ~150k-tet TetGen ellipsoid and a ~1M-tet one. CSVs and the logs go to $OUT (or
 #       ./gpubench-out), each written as it runs, so a run cut short keeps what it measured. Its
 #       run time on a device is not measured yet (none was lent when this was written): here,
 #       the smoke part takes about a minute on llvmpipe; the 1M-tet mesh (TetGen) and its CPU
