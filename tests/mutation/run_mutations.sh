@@ -104,6 +104,12 @@ for entry in "${entries[@]}"; do
   IFS=$'\t' read -r id file suite note <<<"$entry"
   [[ -n "$only" && "$only" != *",$id,"* ]] && continue
   target_file="$source_dir/$file"
+  if [[ ! -f "$target_file" ]]; then
+    # A file that moved: reported, never created (restoring an empty backup would make one).
+    printf '%-36s %-7s %4ds  %s\n' "$id" "$suite" 0 "invalid (no such file)" | tee -a "$report"
+    invalid=$((invalid + 1))
+    continue
+  fi
   backup="$(mktemp)"
   cp "$target_file" "$backup"
   log="$build_dir/mutation_logs/$id.log"
