@@ -67,15 +67,15 @@ void ConditionBuffers::updateLoads(double t)
   // (tryCreateGpuMassSpring), so the rest positions serve as the state here.
   LoadsHost.assign(Rest.size(), Vec3::Zero());
   Conditions.addLoads(t, Rest, LoadsHost);
-  std::vector<double> packed(4 * LoadsHost.size(), 0.0);
+  Packed.assign(4 * LoadsHost.size(), 0.0);
   for (std::size_t i = 0; i < LoadsHost.size(); ++i)
   {
     for (int d = 0; d < 3; ++d)
     {
-      packed[4 * i + static_cast<std::size_t>(d)] = LoadsHost[i](d);
+      Packed[4 * i + static_cast<std::size_t>(d)] = LoadsHost[i](d);
     }
   }
-  uploadIfChanged(Loads, packed, UploadedLoads);
+  uploadIfChanged(Loads, Packed, UploadedLoads);
   LoadsCurrent = true;
 }
 
@@ -86,17 +86,17 @@ void ConditionBuffers::updateHeldTargets(double t)
     return;
   }
   Conditions.holdPoints(t, HeldX, HeldV); // writes the held components of the held points only
-  std::vector<double> packed(8 * HeldList.size(), 0.0);
+  Packed.assign(8 * HeldList.size(), 0.0);
   for (std::size_t k = 0; k < HeldList.size(); ++k)
   {
     const auto i = static_cast<std::size_t>(HeldList[k]);
     for (int d = 0; d < 3; ++d)
     {
-      packed[8 * k + static_cast<std::size_t>(d)] = HeldX[i](d);
-      packed[8 * k + 4 + static_cast<std::size_t>(d)] = HeldV[i](d);
+      Packed[8 * k + static_cast<std::size_t>(d)] = HeldX[i](d);
+      Packed[8 * k + 4 + static_cast<std::size_t>(d)] = HeldV[i](d);
     }
   }
-  uploadIfChanged(HeldTargets, packed, UploadedTargets);
+  uploadIfChanged(HeldTargets, Packed, UploadedTargets);
   TargetsCurrent = true;
 }
 

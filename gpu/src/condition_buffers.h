@@ -51,6 +51,7 @@ private:
   StorageBuffer Loads, HeldAxes, HeldPoints, HeldTargets;
   // Host scratch, kept between steps so that an unchanged value is not uploaded again.
   std::vector<Vec3> LoadsHost, HeldX, HeldV;
+  std::vector<double> Packed; ///< the values as the buffer holds them (dvec4 per entry)
   std::vector<double> UploadedLoads, UploadedTargets;
   bool LoadsCurrent = false, TargetsCurrent = false;
 };

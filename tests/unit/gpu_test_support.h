@@ -6,9 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <tuple>
 
 namespace softbody::test
 {
@@ -59,6 +61,18 @@ inline std::unique_ptr<gpu::MassSpringGpuSimulation> makeGpu(
     EXPECT_TRUE(noContext) << "the GPU stepper failed for another reason than a missing context";
   }
   return simulation;
+}
+
+/// A material model and an explicit integrator, the parameter of the GPU parity suites.
+using ModelAndIntegrator = std::tuple<MaterialModel, Integrator>;
+
+/// GoogleTest's name for it: "StableNeoHookean_EulerCromer" (letters and digits only).
+inline std::string modelAndIntegratorName(const ::testing::TestParamInfo<ModelAndIntegrator>& param)
+{
+  std::string name = std::string(materialModelName(std::get<0>(param.param))) + "_" +
+    integratorName(std::get<1>(param.param));
+  name.erase(std::remove_if(name.begin(), name.end(), [](char c) { return c == '-' || c == ' '; }), name.end());
+  return name;
 }
 
 } // namespace softbody::test

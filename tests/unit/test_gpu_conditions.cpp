@@ -76,7 +76,7 @@ Body loadedBar(MaterialModel model)
   return body;
 }
 
-using ModelAndIntegrator = std::tuple<MaterialModel, Integrator>;
+using test::ModelAndIntegrator;
 
 class GpuConditions : public ::testing::TestWithParam<ModelAndIntegrator>
 {
@@ -154,12 +154,7 @@ TEST_P(GpuConditions, SameStatesAndReactionsAsTheCpu)
 INSTANTIATE_TEST_SUITE_P(ModelsAndIntegrators, GpuConditions,
   ::testing::Combine(::testing::Values(MaterialModel::SpringNetwork, MaterialModel::StableNeoHookean),
     ::testing::Values(Integrator::Euler, Integrator::Midpoint, Integrator::Verlet, Integrator::EulerCromer)),
-  [](const ::testing::TestParamInfo<ModelAndIntegrator>& param) {
-    std::string name = std::string(materialModelName(std::get<0>(param.param))) + "_" +
-      integratorName(std::get<1>(param.param));
-    name.erase(std::remove_if(name.begin(), name.end(), [](char c) { return c == '-' || c == ' '; }), name.end());
-    return name;
-  });
+  test::modelAndIntegratorName);
 
 TEST(GpuConditions, PressureAndPullAreLeftToTheCpuNamingTheCondition)
 {
