@@ -82,7 +82,9 @@ void vtkSoftBodyConditionCodec::EncodeValuesOverTheRun(
 {
   // The values a property holds, as Encode writes them (degrees, SI units): the arrays of one
   // tuple of a fixed width. The kind, the held components, the spread and the profile's shape
-  // never change during a run (a change of them builds the simulation anew).
+  // never change during a run (a change of them builds the simulation anew). The XML marks the
+  // same properties <RecordedWhilePlaying/> for the GUI's keyframe recorder (python.keyframes
+  // checks the two lists agree).
   static const char* const kLive[] = { "Translation", "RotationAxis", "RotationCenter", "RotationAngle",
     "Force", "Pressure", "PullTarget", "PullStiffness", "ProfileTime" };
   if (overTheRun.empty())

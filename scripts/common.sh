@@ -37,6 +37,7 @@ SOFTBODY_PACKAGES=(
   python3-pil                                   # the demo's animated GIF
   qtxmlpatterns5-dev-tools qttools5-dev         # the plugin's help pages (xmlpatterns, qhelpgenerator)
   paraview libqt5svg5                           # the GUI, to open the demo's state; tests/gui (svg: icons)
+  libqt5svg5-dev libqt5opengl5-dev              # the GUI side of the plugin (ParaView's pqCore CMake config)
 )
 # What the tests and benchmarks add.
 SOFTBODY_TEST_PACKAGES=(

@@ -5,8 +5,11 @@ what a new user sees: only the Mesh and the Floor shown, in the one render view 
 or chart pane for Convergence, no particles over the mesh), the Mesh coloured by Velocity, the
 render view still the active view, the animation stepping through the filter's times, and no
 error or warning in the Output Messages window. A Pull condition on the jelly, made active so
-its panel builds its widgets, changed while the animation stands at a frame, is recorded from
-that frame on, and softbody.keyframes turns the change into tracks. Then the same Apply on a
+its panel builds its widgets, changed while the animation stands at a frame, is applied from
+that frame on and recorded as keyframes by the GUI itself; played again from the start, the
+keyframes repeat the change at the same frame and the same Mesh; softbody.keyframes fills the
+same tracks; a
+change between two frames is keyed at the frame the filter applies it from. Then the same Apply on a
 voxelized torus (with the torus as its Surface) and on the cloth, both under XPBD: the same two ports, still one view,
 both bodies following the animation time.
 """
@@ -15,6 +18,26 @@ import sys
 
 sys.path.insert(0, os.environ["SOFTBODY_GUI_DIR"])
 import gui_support  # noqa: E402
+
+
+
+def hand_tracks(scene, condition):
+    """{(property, component): [(key time, value), ...]} of the scene's tracks of `condition`."""
+    tracks = {}
+    for cue in scene.Cues:
+        animated = cue.GetProperty("AnimatedProxy") and cue.AnimatedProxy
+        if animated is not None and animated.SMProxy is condition.SMProxy:
+            frames = [(f.KeyTime, f.KeyValues[0]) for f in cue.KeyFrames if f.Interpolation == "Boolean"]
+            tracks[(cue.AnimatedPropertyName, cue.AnimatedElement)] = frames
+    return tracks
+
+
+def mesh_points(body):
+    """The Mesh output's points at the scene's time, as a list (compared exactly)."""
+    from paraview import servermanager
+    points = servermanager.Fetch(body, 0).GetPoints()
+    return [points.GetPoint(i) for i in range(points.GetNumberOfPoints())]
+
 
 failures = []
 try:
@@ -88,12 +111,57 @@ try:
     if changes is None or abs(changes.GetRange(0)[0] - times[3]) > 1e-9:
         failures.append("the pull moved at t = %g is not recorded from there (ConditionChangeTimes %s)"
                         % (times[3], changes.GetRange(0) if changes else None))
-    # Kept as keyframes from the GUI's Python Shell: a track per PullTarget component moved.
+    # The GUI recorded the change as keyframes by itself (plugin/gui): a track per PullTarget
+    # component moved, a Boolean keyframe at the start holding the old target and one at the
+    # change's frame holding the new one.
+    live_points = mesh_points(held)  # at times[5]
+    before, after = [0.3, 0.0, 0.6], [0.0, 0.3, 0.7]
+    key = (times[3] - scene.StartTime) / (scene.EndTime - scene.StartTime)
+    expected_tracks = {("PullTarget", k): [(0.0, before[k]), (key, after[k])] for k in range(3)}
+    if hand_tracks(scene, hand) != expected_tracks:
+        failures.append("the pull moved at t = %g was recorded as %s, expected %s"
+                        % (times[3], hand_tracks(scene, hand), expected_tracks))
+    # Played again from the start, frame by frame: the tracks set the target back and move it at
+    # the same frame, the filter applies it there, and the tracks' own changes add no keyframe.
+    scene.AnimationTime = times[0]
+    Render(view)
+    if list(hand.PullTarget) != before:
+        failures.append("at t = 0 the tracks set PullTarget %s, expected %s" % (list(hand.PullTarget), before))
+    for _ in range(5):
+        scene.GoToNext()
+        Render(view)
+    if list(hand.PullTarget) != after:
+        failures.append("at t = %g the tracks set PullTarget %s, expected %s"
+                        % (times[5], list(hand.PullTarget), after))
+    if mesh_points(held) != live_points:
+        failures.append("at t = %g the replayed Mesh differs from the live run's" % times[5])
+    changes = held.GetFieldDataInformation().GetArray("ConditionChangeTimes")
+    if changes is None or changes.GetNumberOfTuples() != 1 or abs(changes.GetRange(0)[0] - times[3]) > 1e-9:
+        failures.append("the replay changed the pull at %s, expected once at t = %g"
+                        % (changes.GetRange(0) if changes else None, times[3]))
+    if hand_tracks(scene, hand) != expected_tracks:
+        failures.append("the replay changed the recorded keyframes to %r from %r" % (hand_tracks(scene, hand), expected_tracks))
+    # The same from the field data through softbody.keyframes (pvpython's way): it fills the
+    # tracks already there.
     from softbody import keyframes
     tracks = keyframes.record(held, [hand])
     moved = sorted((t.AnimatedPropertyName, t.AnimatedElement) for t in tracks)
     if moved != [("PullTarget", 0), ("PullTarget", 1), ("PullTarget", 2)]:
         failures.append("keyframes.record made tracks %s, expected PullTarget's three components" % moved)
+    if sorted(hand_tracks(scene, hand)) != sorted(expected_tracks):
+        failures.append("after keyframes.record the pull has tracks %s" % sorted(hand_tracks(scene, hand)))
+    # A change while the scene stands between two frames: the filter applies it from the frame
+    # before, and the keyframe is there.
+    scene.AnimationTime = times[4] + 0.4 * (times[5] - times[4])
+    Render(view)
+    hand.PullStiffness = 30
+    Render(view)
+    changes = held.GetFieldDataInformation().GetArray("ConditionChangeTimes")
+    stiffness = hand_tracks(scene, hand).get(("PullStiffness", 0))
+    key4 = (times[4] - scene.StartTime) / (scene.EndTime - scene.StartTime)
+    if changes is None or abs(changes.GetRange(0)[1] - times[4]) > 1e-9 or stiffness != [(0.0, 50.0), (key4, 30.0)]:
+        failures.append("a stiffness changed between frames %g and %g: the filter took it at %s, the keyframes %s"
+                        % (times[4], times[5], changes.GetRange(0) if changes else None, stiffness))
 
     # The two particle bodies, under XPBD: a voxelized surface given as its own
     # Surface, and the cloth. Apply shows the same two ports and opens no pane for either.

@@ -10,7 +10,8 @@
 # Suites: unit   = ctest -L unit (core's GoogleTest suite) with EGL hidden;
 #         gpu    = the GPU unit tests (unit.gpu_*) on whatever EGL driver there is (Mesa's
 #                  llvmpipe here; without a context they skip and the mutation survives);
-#         filter = ctest -L filter -LE gpu (the VTK filter programs) with EGL hidden.
+#         filter = ctest -L filter -LE gpu (the VTK filter programs) with EGL hidden;
+#         gui    = ctest -L gui (the real ParaView GUI under Xvfb).
 # First each suite needed runs on the unmutated sources (the baseline): a suite that already
 # fails would "kill" every mutation, so the run stops there. Every suite stops at its first
 # failure. A mutation that does not compile is reported as
@@ -50,6 +51,7 @@ suite_targets() {
   case "$1" in
     unit) echo softbody_unit_tests ;;
     gpu) echo softbody_gpu_unit_tests softbody_gpu_lifetimes_test ;;
+    gui) echo SoftBody ;;
     filter)
       ninja -C "$build_dir" -t targets all 2>/dev/null | sed -n 's/^\(softbody_filter_test_[a-z_]*\): .*/\1/p' | sort -u | tr '\n' ' ' ;;
   esac
@@ -62,6 +64,7 @@ run_suite() { # suite -> 0 when every test passed; writes the log
     unit) "${no_egl[@]}" ctest "${common[@]}" -L unit >"$log" 2>&1 ;;
     gpu) ctest "${common[@]}" -R '^unit\.gpu_' >"$log" 2>&1 ;;
     filter) "${no_egl[@]}" ctest "${common[@]}" -L filter -LE gpu >"$log" 2>&1 ;;
+    gui) ctest "${common[@]}" -L gui >"$log" 2>&1 ;;
   esac
 }
 

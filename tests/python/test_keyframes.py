@@ -11,7 +11,9 @@ handle would be recorded, replayed and saved.
 3. The condition put back to its first values and a new Soft Body played through the same
    animation scene: the tracks change the condition at the same frames, and every frame equals
    the live run's bit for bit.
-4. Without a change, record makes no track."""
+4. Without a change, record makes no track.
+5. The properties the XML marks RecordedWhilePlaying (what the GUI's recorder keys,
+   plugin/gui) are exactly those the filter records in ConditionValues."""
 
 import os
 import tempfile
@@ -56,6 +58,14 @@ sbt.check(target is not None and target.GetNumberOfTuples() == 3 and target.GetN
           "field data: the hand's PullTarget from frame 0 and after each of the two changes")
 sbt.check(np.allclose([target.GetTuple3(i) for i in range(3)], [[0.3, 0, 0.6], [0.0, 0.3, 0.7], [0.0, 0.3, 0.7]]),
           "field data: the PullTarget values in order")
+recorded_by_filter = sorted(field.GetArrayName(a)[len("ConditionValues hand "):] for a in range(field.GetNumberOfArrays())
+                            if field.GetArrayName(a).startswith("ConditionValues hand "))
+hinted = sorted(name for name in hand.ListProperties()
+                if (hints := hand.GetProperty(name).SMProperty.GetHints()) is not None
+                and hints.FindNestedElementByName("RecordedWhilePlaying") is not None)
+print("live values in the field data:", recorded_by_filter, "; marked in the XML:", hinted)
+sbt.check(recorded_by_filter == hinted and len(hinted) > 0,
+          "the XML marks RecordedWhilePlaying exactly the values the filter changes live")
 
 tracks = keyframes.record(live, [hand])
 print("tracks:", [(t.AnimatedPropertyName, t.AnimatedElement, [(k.KeyTime, list(k.KeyValues)) for k in t.KeyFrames])
