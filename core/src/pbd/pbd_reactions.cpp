@@ -7,6 +7,14 @@
 // point's reaction is then what BoundaryConditions::readout makes of them, as for Mass-Spring:
 // m (a_prescribed - g) - internal - loads on its held components. Velocity damping scales the
 // velocities as a whole and is no internal force; soft pins are constraints, not supports.
+//
+// PBD's stiffnesses, and XPBD's rigid constraints, define no force of the state. There the
+// internal force is what the projections did: a Gauss-Seidel projection moves corner k by
+// w_k dC/dx_k dLambda, the momentum dC/dx_k dLambda / h, so over a substep the constraint gave
+// each corner, the held ones included, the force lambda dC/dx_k / h^2 (XPBD's force once
+// converged, as above). The gradient is taken at the substep's end; it moved by the substep's
+// corrections, which is the accuracy of these reactions. They are state (snapshotted with
+// the frame) since the multipliers are not.
 #include "softbody/pbd/pbd_simulation.h"
 
 #include "softbody/material/tet_elastic_forces.h"
@@ -112,14 +120,71 @@ void PbdSimulation::elasticForces(const std::vector<Vec3>& x, std::vector<Vec3>&
   }
 }
 
+void PbdSimulation::recordSupportForces(double h)
+{
+  const std::vector<Vec3>& x = State.positions;
+  std::vector<Vec3>& forces = State.supportForces;
+  forces.assign(x.size(), Vec3::Zero());
+  const double perH2 = 1.0 / (h * h);
+  if (Plan.runs(Stage::SolveLinks))
+  {
+    for (std::size_t c = 0; c < Links.size(); ++c)
+    {
+      const double lambda = Links.lambda[c];
+      const auto& e = Links.ends[c];
+      const Vec3 d = x[e[0]] - x[e[1]];
+      const double length = d.norm();
+      if (lambda != 0.0 && length > 0.0)
+      {
+        const Vec3 f = (lambda * perH2 / length) * d;
+        forces[e[0]] += f;
+        forces[e[1]] -= f;
+      }
+    }
+  }
+  if (Plan.runs(Stage::SolveVolumes))
+  {
+    for (std::size_t c = 0; c < Volumes.size(); ++c)
+    {
+      const double push = Volumes.lambda[c] * perH2;
+      if (push == 0.0)
+      {
+        continue;
+      }
+      const Tet& t = Volumes.tets[c];
+      const Vec3 e1 = x[t[1]] - x[t[0]], e2 = x[t[2]] - x[t[0]], e3 = x[t[3]] - x[t[0]];
+      const Vec3 g1 = e2.cross(e3) / 6.0, g2 = e3.cross(e1) / 6.0, g3 = e1.cross(e2) / 6.0;
+      forces[t[1]] += push * g1;
+      forces[t[2]] += push * g2;
+      forces[t[3]] += push * g3;
+      forces[t[0]] -= push * (g1 + g2 + g3);
+    }
+  }
+}
+
 ConditionReadout PbdSimulation::conditionReadout() const
 {
-  if (Conditions.empty() || !constraintsHaveForces())
+  if (Conditions.empty())
   {
     return {};
   }
   std::vector<Vec3> internal;
-  elasticForces(State.positions, internal);
+  if (constraintsHaveForces())
+  {
+    elasticForces(State.positions, internal);
+  }
+  else if (!ReactionsFromMultipliers)
+  {
+    return {};
+  }
+  else if (State.supportForces.size() == State.positions.size())
+  {
+    internal = State.supportForces;
+  }
+  else
+  {
+    internal.assign(State.positions.size(), Vec3::Zero()); // before the first step: no projection yet
+  }
   return Conditions.readout(State.time, State.positions, internal, PointMass, Settings.gravity);
 }
 

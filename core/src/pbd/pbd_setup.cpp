@@ -394,20 +394,17 @@ PbdSimulation::PbdSimulation(Body body, const PbdSettings& settings)
   replan();
   if (!Conditions.heldAxes().empty() && !constraintsHaveForces())
   {
-    std::ostringstream message;
-    message << "The supports' reactions are not reported (no Reaction output): ";
-    if (Settings.formulation == PbdFormulation::Pbd)
+    // Each Gauss-Seidel projection moves its corners by w_k dC/dx_k dLambda: the momentum it
+    // gives them is dC/dx_k dLambda / h, so the multipliers tell what the held points were
+    // given. Averaged Jacobi moves a point by the mean of the corrections asked of it instead.
+    ReactionsFromMultipliers = Settings.solver != PbdSolver::Jacobi;
+    if (!ReactionsFromMultipliers)
     {
-      message << "PBD's stiffnesses in [0, 1] are no forces. XPBD reports them.";
+      Warnings.push_back("The supports' reactions are not reported (no Reaction output): "
+                         "Solver Jacobi moves a point by the mean of the corrections asked of "
+                         "it, so its multipliers are not the momentum the supports gave. Solver "
+                         "Gauss-Seidel or Parallel Gauss-Seidel reports them.");
     }
-    else
-    {
-      message << "a constraint type is rigid (XPBDLinkCompliance " << Settings.links.compliance
-              << " m/N, XPBDVolumeCompliance " << Settings.volumes.compliance
-              << " m^3/Pa), and a rigid constraint has no force to report. Give it a compliance, "
-                 "or XPBDMaterial Young's Modulus.";
-    }
-    Warnings.push_back(message.str());
   }
   // Rest lengths and broken flags are state (snapshotted, restored) only where they change.
   if (Plan.runs(Stage::UpdateLinks))

@@ -313,6 +313,10 @@ void PbdSimulation::stepOnce(double h, bool recordConvergence)
     SubstepTime = State.time + s * hs;
     substep(hs, RecordEveryStep || (recordConvergence && s + 1 == Settings.substeps));
   }
+  if (ReactionsFromMultipliers)
+  {
+    recordSupportForces(hs); // the multipliers still hold the last substep's
+  }
   State.time += h;
   ++State.stepCount;
   LinkStateStale = !State.linkRestLengths.empty();

@@ -40,6 +40,11 @@ struct DynamicState
   /// along. Empty without restitution.
   std::vector<double> impactSpeeds;
   std::vector<Vec3> impactNormals;
+  /// PBD, and XPBD with a rigid constraint type, where no force is a function of the state:
+  /// per point, the force the projections of the last substep gave it, the multipliers'
+  /// sum_c lambda_c dC_c/dx / h^2 [N], from which the supports' reactions are read. Empty where
+  /// nothing is held or the reactions come from the state.
+  std::vector<Vec3> supportForces;
 };
 
 } // namespace softbody

@@ -47,8 +47,10 @@ public:
   double totalMass() const override { return TotalMass; }
   std::vector<double> tetVolumeRatios() const override;
   TetStressField stressField() const override;
-  /// XPBD with compliant constraints: the supports' reactions from the constraints' elastic
-  /// forces at the current state (pbd_reactions.cpp); PBD and rigid constraints have none.
+  /// The supports' reactions (pbd_reactions.cpp): under XPBD with compliant constraints from
+  /// the constraints' elastic forces at the current state; under PBD, and XPBD with a rigid
+  /// constraint type, from the momentum the last substep's projections gave the held points
+  /// (Gauss-Seidel solvers; averaged Jacobi has none).
   ConditionReadout conditionReadout() const override;
   double elasticEnergy() const override;
   double stepSize() const override { return Step; }
@@ -152,6 +154,9 @@ private:
   /// that its force C / alpha along its gradient is defined, and those forces at x.
   bool constraintsHaveForces() const;
   void elasticForces(const std::vector<Vec3>& x, std::vector<Vec3>& forces) const;
+  /// Where no constraint force is a function of the state: the forces the projections of the
+  /// substep of size h just solved gave each point, lambda dC/dx / h^2, into State.
+  void recordSupportForces(double h);
 
   PbdSettings Settings;
   std::vector<Vec3> Rest;
@@ -181,6 +186,9 @@ private:
   std::vector<std::string> Warnings;
   bool ObstacleStartChecked = false; ///< noteObstacleStart ran on the obstacles of t = 0
   bool RecordEveryStep = false;
+  /// Reactions from the multipliers (State.supportForces): something is held, no constraint
+  /// force is a function of the state, and a Gauss-Seidel solver applies each projection whole.
+  bool ReactionsFromMultipliers = false;
   PbdConvergence Convergence;
   StepControlReport StepReport;
   mutable unsigned long long ResidualEvaluations = 0;
