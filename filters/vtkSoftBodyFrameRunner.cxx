@@ -178,6 +178,13 @@ bool vtkSoftBodyFrameRunner::ChangeConditionsLive(vtkUnstructuredGrid* input,
   int frame = grid.FrameOf(t, onGrid);
   frame = (!onGrid && frame * p.FrameInterval > t) ? frame - 1 : frame;
   frame = std::max(frame, 0);
+  // The values already in force at that frame (recorded keyframes set them again as the
+  // animation is played again or scrubbed): nothing changes there, every frame stays.
+  if (settings.Conditions == this->ConditionEpochs[this->EpochAt(frame)].second)
+  {
+    this->Settings = settings;
+    return true;
+  }
   // Try the new values on the simulation as it is (a refused value keeps everything).
   if (!this->Built.Simulation->setConditionValues(settings.Conditions))
   {
@@ -205,9 +212,8 @@ bool vtkSoftBodyFrameRunner::ChangeConditionsLive(vtkUnstructuredGrid* input,
 }
 
 //------------------------------------------------------------------------------
-void vtkSoftBodyFrameRunner::ApplyConditionsOf(int frame)
+std::size_t vtkSoftBodyFrameRunner::EpochAt(int frame) const
 {
-  // The latest change at or before the frame the next step starts from.
   std::size_t epoch = 0;
   for (std::size_t e = 0; e < this->ConditionEpochs.size(); ++e)
   {
@@ -216,6 +222,14 @@ void vtkSoftBodyFrameRunner::ApplyConditionsOf(int frame)
       epoch = e;
     }
   }
+  return epoch;
+}
+
+//------------------------------------------------------------------------------
+void vtkSoftBodyFrameRunner::ApplyConditionsOf(int frame)
+{
+  // The latest change at or before the frame the next step starts from.
+  const std::size_t epoch = this->EpochAt(frame);
   if (epoch != this->AppliedEpoch && epoch < this->ConditionEpochs.size())
   {
     // Every entry has the sets the simulation was built with (ChangeConditionsLive checked).

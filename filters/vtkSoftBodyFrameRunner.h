@@ -101,12 +101,16 @@ private:
     const Hooks& hooks, double t);
   /// When only the conditions' values changed (a widget moved during playback) and the
   /// simulation takes them in place: keeps the frames up to the one at or before `t`, records
-  /// the change from there on, drops the frames after it. False: build anew.
+  /// the change from there on, drops the frames after it; values already in force at that
+  /// frame keep every frame. False: build anew.
   bool ChangeConditionsLive(vtkUnstructuredGrid* input, const vtkSoftBodyCoreSettings& settings,
     const std::vector<vtkSoftBodyObstacleConnection>& obstacles, const vtkSoftBodyParameters& p,
     double t);
   /// Gives the simulation the conditions in force from grid frame `frame` on.
   void ApplyConditionsOf(int frame);
+  /// The entry of ConditionEpochs in force at grid frame `frame`: the latest change at or
+  /// before it.
+  std::size_t EpochAt(int frame) const;
   /// Brings the simulation to time `t` through the cache, or as far as the moving obstacles
   /// fetched so far allow (NeedsObstacles: the next pass fetches the missing time).
   Result AdvanceTo(

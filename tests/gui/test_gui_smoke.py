@@ -35,8 +35,16 @@ def hand_tracks(scene, condition):
 def mesh_points(body):
     """The Mesh output's points at the scene's time, as a list (compared exactly)."""
     from paraview import servermanager
-    points = servermanager.Fetch(body, 0).GetPoints()
+    points = servermanager.Fetch(body).GetPoints()
     return [points.GetPoint(i) for i in range(points.GetNumberOfPoints())]
+
+
+def frame_timings(body):
+    """(time, wall seconds) of each simulated frame, from the Timings output."""
+    from paraview import servermanager
+    table = servermanager.Fetch(body, idx=5)
+    time, total = table.GetColumnByName("Time"), table.GetColumnByName("Total")
+    return [(time.GetValue(r), total.GetValue(r)) for r in range(table.GetNumberOfRows())]
 
 
 failures = []
@@ -102,11 +110,18 @@ try:
     scene.UpdateAnimationUsingDataTimeSteps()
     scene.AnimationTime = times[3]
     Render(view)
+    rest = mesh_points(reader)
+    pulled = [i for i, p in enumerate(rest) if sum((a - b) ** 2 for a, b in zip(p, [0.15, 0, 0.5])) <= 0.04 ** 2]
+    y_at_change = sum(mesh_points(held)[i][1] for i in pulled) / len(pulled)
     SetActiveSource(hand)
     hand.PullTarget = [0.0, 0.3, 0.7]  # what dragging the handle writes
     Render(view)
     scene.AnimationTime = times[5]
     Render(view)
+    y_after = sum(mesh_points(held)[i][1] for i in pulled) / len(pulled)
+    if not y_after > y_at_change + 1e-4:
+        failures.append("the pull moved towards y = 0.3 at t = %g: its points went from y = %g to %g by t = %g"
+                        % (times[3], y_at_change, y_after, times[5]))
     changes = held.GetFieldDataInformation().GetArray("ConditionChangeTimes")
     if changes is None or abs(changes.GetRange(0)[0] - times[3]) > 1e-9:
         failures.append("the pull moved at t = %g is not recorded from there (ConditionChangeTimes %s)"
@@ -115,6 +130,7 @@ try:
     # component moved, a Boolean keyframe at the start holding the old target and one at the
     # change's frame holding the new one.
     live_points = mesh_points(held)  # at times[5]
+    live_timings = frame_timings(held)
     before, after = [0.3, 0.0, 0.6], [0.0, 0.3, 0.7]
     key = (times[3] - scene.StartTime) / (scene.EndTime - scene.StartTime)
     expected_tracks = {("PullTarget", k): [(0.0, before[k]), (key, after[k])] for k in range(3)}
@@ -122,7 +138,8 @@ try:
         failures.append("the pull moved at t = %g was recorded as %s, expected %s"
                         % (times[3], hand_tracks(scene, hand), expected_tracks))
     # Played again from the start, frame by frame: the tracks set the target back and move it at
-    # the same frame, the filter applies it there, and the tracks' own changes add no keyframe.
+    # the same frame, the tracks' own changes add no keyframe, and the filter, finding the values
+    # in force at each frame, keeps every simulated frame (the same wall times: none ran again).
     scene.AnimationTime = times[0]
     Render(view)
     if list(hand.PullTarget) != before:
@@ -135,6 +152,8 @@ try:
                         % (times[5], list(hand.PullTarget), after))
     if mesh_points(held) != live_points:
         failures.append("at t = %g the replayed Mesh differs from the live run's" % times[5])
+    if frame_timings(held) != live_timings or len(live_timings) < 5:
+        failures.append("the replay simulated frames again: Timings %s, live %s" % (frame_timings(held), live_timings))
     changes = held.GetFieldDataInformation().GetArray("ConditionChangeTimes")
     if changes is None or changes.GetNumberOfTuples() != 1 or abs(changes.GetRange(0)[0] - times[3]) > 1e-9:
         failures.append("the replay changed the pull at %s, expected once at t = %g"
