@@ -347,6 +347,8 @@ const DynamicState& ReorderedSimulation::state() const
     Out.linkBroken = in.linkBroken;
     Out.impactSpeeds = toInputOrder(in.impactSpeeds, Map.vertexOrder);
     Out.impactNormals = toInputOrder(in.impactNormals, Map.vertexOrder);
+    Out.supportForces = toInputOrder(in.supportForces, Map.vertexOrder);
+    Out.previousAccelerations = toInputOrder(in.previousAccelerations, Map.vertexOrder);
     Stale = false;
   }
   return Out;
@@ -366,6 +368,8 @@ void ReorderedSimulation::restoreState(const DynamicState& snapshot)
   stored.previousVelocities = toStorageOrder(snapshot.previousVelocities, Map.vertexOrder);
   stored.impactSpeeds = toStorageOrder(snapshot.impactSpeeds, Map.vertexOrder);
   stored.impactNormals = toStorageOrder(snapshot.impactNormals, Map.vertexOrder);
+  stored.supportForces = toStorageOrder(snapshot.supportForces, Map.vertexOrder);
+  stored.previousAccelerations = toStorageOrder(snapshot.previousAccelerations, Map.vertexOrder);
   Inner->restoreState(stored);
   Out = snapshot;
   Stale = false;
