@@ -162,7 +162,8 @@ int main(int argc, char** argv)
       cases = { { Integrator::Bdf2, 1e-3 }, { Integrator::Bdf2, 1e-3, true }, { Integrator::Bdf2, 1e-4 },
         { Integrator::Bdf2, 1e-4, true }, { Integrator::Bdf2, 1e-5 }, { Integrator::ImplicitEuler, 1e-3 },
         { Integrator::ImplicitEuler, 1e-3, true }, { Integrator::ImplicitEuler, 1e-4 }, { Integrator::Verlet, 1e-3 },
-        { Integrator::Verlet, 1e-5 } };
+        { Integrator::Verlet, 1e-3, true }, { Integrator::Verlet, 1e-5 }, { Integrator::Verlet, 1e-5, true },
+        { Integrator::EulerCromer, 1e-3 }, { Integrator::EulerCromer, 1e-4 } };
     }
     for (const Case& c : cases)
     {

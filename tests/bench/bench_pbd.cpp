@@ -253,15 +253,15 @@ void throughput(const bench::Options& options, int maxThreads)
           if (ordering == VertexOrdering::Morton)
           {
             // Boxes measured before the reference box have no ratio to it.
-            char box[32] = "-";
+            char overBoxText[32] = "-";
             if (overBox > 0.0)
             {
-              std::snprintf(box, sizeof box, "%.2f", overBox);
+              std::snprintf(overBoxText, sizeof overBoxText, "%.2f", overBox);
             }
             char row[320];
             std::snprintf(row, sizeof row, "| %s | %zu | %zu | %s | %d | %.3f | %.3g | %.2f | %.2f | %s |\n",
               named.name.c_str(), sim->volumes().size(), sim->links().size(), solverName(solver), threads,
-              1e3 * t.min, perThread, oneThread / t.min, overBound, box);
+              1e3 * t.min, perThread, oneThread / t.min, overBound, overBoxText);
             table << row;
           }
           if (hash != firstHash)

@@ -26,10 +26,16 @@ def main(csv_path, png_path):
             ratio.append(float(row["cost_ratio"]))
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.8))
     left.axhline(1.0, color="black", linestyle="--", label="the allowance")
+    # One colour per scene and integrator; the judge is the line style (more series than one
+    # colour cycle holds).
+    colours = {}
     for (scene, integrator, judge), (tolerance, error, ratio) in sorted(series.items()):
         label = f"{integrator} ({judge}), {scene}"
-        left.loglog(tolerance, error, marker="o", label=label)
-        right.semilogx(tolerance, ratio, marker="o", label=label)
+        colour = colours.setdefault((scene, integrator), f"C{len(colours) % 10}")
+        style = dict(color=colour, marker="o" if scene == sorted({k[0] for k in series})[0] else "s",
+                     linestyle="-" if judge == "embedded" else "--", label=label)
+        left.loglog(tolerance, error, **style)
+        right.loglog(tolerance, ratio, **style)
     left.set(title="achieved error over the allowance", xlabel="ErrorTolerance [m per s]",
              ylabel="largest error over the frames / (tolerance x simulated time)")
     right.axhline(1.0, color="black", linestyle="--")

@@ -73,6 +73,10 @@ void integrateStep(Integrator integrator, double h, const AccelerationEvaluator&
       break;
     case Integrator::Verlet:
       kickDrift(h, 0.5 * (state.previousStep + h), evaluator, state, scratch);
+      if (!state.previousAccelerations.empty()) // kept for the error estimate (local_error.h)
+      {
+        state.previousAccelerations = scratch.acceleration;
+      }
       break;
     case Integrator::EulerCromer:
       kickDrift(h, h, evaluator, state, scratch);

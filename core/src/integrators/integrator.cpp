@@ -88,19 +88,19 @@ constexpr std::array<IntegratorFacts, 9> kTable{ {
   //   staggered velocity, GPU, undamped reference, plan's element pass and linear solve, stability,
   //   embedded local error estimate
   { I::Euler,              "Euler",               1, false, false, 1,
-    false, true,  I::EulerCromer,        nullptr,               nullptr,                eulerRadius, nullptr },
+    false, true,  I::EulerCromer,        nullptr,               nullptr,                eulerRadius, &kFirstOrderEstimate },
   { I::Midpoint,           "Midpoint",            2, false, false, 2,
     false, true,  I::Midpoint,           nullptr,               nullptr,                midpointRadius, nullptr },
   { I::Verlet,             "Verlet",              2, false, true,  1,
-    true,  true,  I::Verlet,             nullptr,               nullptr,                kickDriftRadius, nullptr },
+    true,  true,  I::Verlet,             nullptr,               nullptr,                kickDriftRadius, &kVerletEstimate },
   { I::EulerCromer,        "Euler-Cromer",        1, false, true,  1,
     false, true,  I::EulerCromer,        nullptr,               nullptr,                kickDriftRadius, nullptr },
   // Newton: gradient, PSD Hessian and line-search energies; then CG on the Hessian.
   { I::ImplicitEuler,      "Implicit Euler",      1, true,  false, 1,
-    false, false, I::ImplicitEuler,      "gradient + Hessian",  "block-Jacobi PCG",     backwardEulerRadius, &kBackwardEulerEstimate },
+    false, false, I::ImplicitEuler,      "gradient + Hessian",  "block-Jacobi PCG",     backwardEulerRadius, &kFirstOrderEstimate },
   // Local step: the element pass (projections = gradient); global: prefactored solves.
   { I::ProjectiveDynamics, "Projective Dynamics", 1, true,  false, 1,
-    false, false, I::ProjectiveDynamics, "local step",          "prefactored Cholesky", backwardEulerRadius, &kBackwardEulerEstimate },
+    false, false, I::ProjectiveDynamics, "local step",          "prefactored Cholesky", backwardEulerRadius, &kFirstOrderEstimate },
   // Newton on the elastic energy alone; order 0: the answer does not depend on the step.
   { I::Static,             "Static",              0, true,  false, 1,
     false, false, I::Static,             "gradient + Hessian",  "block-Jacobi PCG",     staticRadius, nullptr },
@@ -109,7 +109,7 @@ constexpr std::array<IntegratorFacts, 9> kTable{ {
     false, false, I::Bdf2,               "gradient + Hessian",  "block-Jacobi PCG",     bdf2Radius, &kBdf2Estimate },
   // Per-point sweeps: every element evaluated at each of its corners; no linear system.
   { I::VertexBlockDescent, "Vertex Block Descent", 1, true, false, 1,
-    false, false, I::VertexBlockDescent, "colored per-point sweeps", "3x3 per point", backwardEulerRadius, &kBackwardEulerEstimate },
+    false, false, I::VertexBlockDescent, "colored per-point sweeps", "3x3 per point", backwardEulerRadius, &kFirstOrderEstimate },
 } };
 // clang-format on
 

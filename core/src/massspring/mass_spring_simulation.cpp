@@ -511,6 +511,12 @@ AdvanceStatus MassSpringSimulation::advance(double endTime, const ProgressCallba
     const EmbeddedErrorEstimate* embedded = factsOf(Scene.integrator).localError;
     if (embedded && !Scene.stepDoubling)
     {
+      if (embedded == &kVerletEstimate && State.previousAccelerations.size() != State.positions.size())
+      {
+        // The estimate's history starts here; until a step has written it, a step with a
+        // history says more than it knows, so the zeros only shorten the next step.
+        State.previousAccelerations.assign(State.positions.size(), Vec3::Zero());
+      }
       control.localError = [this, embedded](const DynamicState& start, const DynamicState&, double h,
                              const std::vector<char>& skip) { return largestLocalError(*embedded, start, h, skip); };
       control.errorConstant = embedded->constant;

@@ -2,8 +2,8 @@
 // it makes stays within what the user's tolerance allows, from the integrator's own (embedded)
 // estimate where it has one, else by step doubling (Richardson).
 //
-// An embedded estimate reads the local error off the step itself (the implicit integrators:
-// integrators/local_error.h), so each try costs one step. Step doubling takes each step of h
+// An embedded estimate reads the local error off the step itself (every integrator but
+// Midpoint: integrators/local_error.h), so each try costs one step. Step doubling takes each step of h
 // twice, once whole and once as two halves, three steps a try; for an integrator of order p
 // the halves' local error is about |x_halves - x_whole| / (2^p - 1) (the largest over the
 // points). The tolerance is in metres per simulated second: a step of h may make a position

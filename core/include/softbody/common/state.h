@@ -28,6 +28,9 @@ struct DynamicState
   /// step, previousStep before these. Empty until the first step, and for the others.
   std::vector<Vec3> previousPositions;
   std::vector<Vec3> previousVelocities;
+  /// History of Verlet's embedded error estimate (integrators/local_error.h), kept under
+  /// error-controlled steps only: the acceleration of the last step's kick [m/s^2].
+  std::vector<Vec3> previousAccelerations;
   /// Error-controlled steps: the step the controller proposes next [s] (0: none yet).
   double proposedStep = 0.0;
   /// History of models whose links change as they move (PBD plastic and breakable links):

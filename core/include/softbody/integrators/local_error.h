@@ -7,8 +7,18 @@
 //   backward Euler (Implicit Euler, Projective Dynamics, Vertex Block Descent): x+ = x + h v+
 //     makes x + h v + h^2 a where the motion makes x + h v + h^2 a / 2, an error of h^2 x'' / 2,
 //     with x'' = (v+ - v) / h: |e| = h |v+ - v| / 2 (exact under a constant acceleration);
+//   explicit Euler: x+ = x + h v errs by -h^2 x''/2, the same h |v+ - v| / 2. (Not
+//     Euler-Cromer: its positions are leapfrog's, second order, so this first-order term
+//     overstates its error by an order of magnitude on an oscillating body; it doubles its
+//     steps.)
 //   BDF2: C(w) h^3 x''' (bdf2_formula.h), with x''' twice the second divided difference of
-//     v-, v, v+ at t - h_prev, t, t + h; a step without history is backward Euler's.
+//     v-, v, v+ at t - h_prev, t, t + h; a step without history is backward Euler's;
+//   Verlet (leapfrog, velocity staggered by half a step): the error in position plus h times
+//     that of the staggered velocity, which the next drift adds to it, h^3 x''' / 24 at a
+//     constant step, without the transient a change of step adds (local_error.cpp); x''' is
+//     the difference of the last two kicks' accelerations (DynamicState::previousAccelerations)
+//     over the step before, the jerk half a step back. A first step, without that history, is
+//     judged as a first-order one.
 //
 // The estimates are per point and per component (the caller drops held components and points
 // in contact, whose velocities a response changed).
@@ -31,7 +41,9 @@ struct EmbeddedErrorEstimate
   double (*constant)(double h, double previousStep);
 };
 
-extern const EmbeddedErrorEstimate kBackwardEulerEstimate;
+/// h |v+ - v| / 2: backward Euler's and explicit Euler's.
+extern const EmbeddedErrorEstimate kFirstOrderEstimate;
+extern const EmbeddedErrorEstimate kVerletEstimate;
 extern const EmbeddedErrorEstimate kBdf2Estimate;
 
 } // namespace softbody
