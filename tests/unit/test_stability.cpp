@@ -9,6 +9,7 @@
 #include "softbody/stability/stability.h"
 
 #include <Eigen/Eigenvalues>
+#include <array>
 #include <cstdio>
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -38,19 +39,28 @@ TEST(Stability, AmplificationMatchesTheTextbookLimits)
     2.0 / omega * (std::sqrt(1 + zeta * zeta) - zeta), 1e-6);
 }
 
+namespace
+{
+/// One tet of raw springs (stiffness 10, density 4) at `points`, with the corners `pinned`.
+Body springTet(const std::array<Vec3, 4>& points, std::vector<char> pinned = {})
+{
+  Body body;
+  body.mesh.points.assign(points.begin(), points.end());
+  body.mesh.tets = { { 0, 1, 2, 3 } };
+  body.pinned = std::move(pinned);
+  body.material.mode = MaterialMode::Raw;
+  body.material.raw = { 10.0, 0.0, 0.0, 0.0, 4.0 };
+  return body;
+}
+} // namespace
+
 TEST(Stability, FrequencyEstimateOfASingleFreeCornerIsItsExactFrequency)
 {
   // One tet with three corners pinned: the free corner oscillates in a 3-dimensional space, so
   // three Lanczos steps span it and the Lanczos estimate is its exact top frequency (the set-up
   // adds its deformation margin); the Gershgorin bound is above it.
-  TetMesh mesh;
-  mesh.points = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1) };
-  mesh.tets = { { 0, 1, 2, 3 } };
-  Body body;
-  body.mesh = mesh;
-  body.pinned = { 1, 1, 1, 0 };
-  body.material.mode = MaterialMode::Raw;
-  body.material.raw = { 10.0, 0.0, 0.0, 0.0, 4.0 };
+  const Body body = springTet({ Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1) }, { 1, 1, 1, 0 });
+  const TetMesh& mesh = body.mesh;
   MassSpringSimulation sim(body, SceneSettings{});
   // Free corner (0,0,1), mass 1, three springs to the pinned corners: stiffness matrix
   // K = sum k_e n n^T with k_e = k_D / l0^2; omega^2 is its largest eigenvalue over the mass.
@@ -81,14 +91,7 @@ TEST(Stability, GershgorinBoundHoldsWhereFreePointsPullOnEachOther)
   // blocks of its free neighbours, k n n^T each, so the row bound needs 2 k per spring (a
   // single free spring between two unit masses has omega^2 = 2 k exactly). Lanczos spans the
   // 12-dimensional space and gives the exact top frequency; the bound is above it.
-  TetMesh mesh;
-  mesh.points = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 0.9, 0), Vec3(0.5, 0.3, 0.8) };
-  mesh.tets = { { 0, 1, 2, 3 } };
-  Body body;
-  body.mesh = mesh;
-  body.material.mode = MaterialMode::Raw;
-  body.material.raw = { 10.0, 0.0, 0.0, 0.0, 4.0 };
-  MassSpringSimulation sim(body, SceneSettings{});
+  MassSpringSimulation sim(springTet({ Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 0.9, 0), Vec3(0.5, 0.3, 0.8) }), SceneSettings{});
   const auto& c = sim.elementConstants();
   const LanczosFrequency lanczos = lanczosFrequencyEstimate(sim.topology(), c, sim.inverseMasses(), sim.restPositions(), 12);
   const double gershgorin = gershgorinFrequencyBound(sim.topology(), c, sim.inverseMasses(), sim.restPositions());
