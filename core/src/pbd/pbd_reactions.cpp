@@ -17,7 +17,10 @@
 // the frame) since the multipliers are not.
 #include "softbody/pbd/pbd_simulation.h"
 
+#include "softbody/common/geometry.h"
 #include "softbody/material/tet_elastic_forces.h"
+
+#include <array>
 
 #include <cmath>
 
@@ -152,12 +155,11 @@ void PbdSimulation::recordSupportForces(double h)
         continue;
       }
       const Tet& t = Volumes.tets[c];
-      const Vec3 e1 = x[t[1]] - x[t[0]], e2 = x[t[2]] - x[t[0]], e3 = x[t[3]] - x[t[0]];
-      const Vec3 g1 = e2.cross(e3) / 6.0, g2 = e3.cross(e1) / 6.0, g3 = e1.cross(e2) / 6.0;
-      forces[t[1]] += push * g1;
-      forces[t[2]] += push * g2;
-      forces[t[3]] += push * g3;
-      forces[t[0]] -= push * (g1 + g2 + g3);
+      const std::array<Vec3, 4> g = tetVolumeGradients(x[t[0]], x[t[1]], x[t[2]], x[t[3]]);
+      for (int k = 0; k < 4; ++k)
+      {
+        forces[t[k]] += push * g[k];
+      }
     }
   }
 }
